@@ -1,0 +1,120 @@
+//! Node upkeep: bodies and static colliders become nodes; removed ones go.
+//!
+//! Why not scan every body every step: a settled scene's step costs Rapier a few
+//! microseconds, and the layer must cost in proportion to what moves (DESIGN §7). So
+//! the per-step work touches only the bodies awake now or awake at the last update
+//! (the second set catches bodies that just fell asleep, turned fixed or were removed).
+//! A full scan runs only when the number of bodies or colliders changed, or when the
+//! user asks for one ([`crate::ContactLayer::request_full_sync`]) after changing a
+//! sleeping or fixed body in place.
+
+use rapier3d::dynamics::{RigidBody, RigidBodyType};
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+
+use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource};
+use crate::WorldView;
+
+/// The node kind of a Rapier body (DESIGN §2).
+pub(crate) fn kind_of_body(view: &WorldView, handle: RigidBodyHandle, rb: &RigidBody) -> NodeKind {
+    match rb.body_type() {
+        RigidBodyType::Fixed => NodeKind::Fixed,
+        RigidBodyType::KinematicPositionBased | RigidBodyType::KinematicVelocityBased => {
+            NodeKind::Scripted
+        }
+        // A soft-body cluster's proxy moves and takes part in contacts like a rigid body.
+        RigidBodyType::Dynamic | RigidBodyType::SoftFrame => {
+            if view.multibody_joints.rigid_body_link(handle).is_some() {
+                NodeKind::Link
+            } else {
+                NodeKind::Rigid
+            }
+        }
+    }
+}
+
+/// Whether a collider without parent gets its own node: static geometry that takes
+/// part in contacts (sensors are the logic layer's business).
+pub(crate) fn is_static_collider_node(view: &WorldView, h: ColliderHandle) -> bool {
+    view.colliders
+        .get(h)
+        .is_some_and(|c| c.parent().is_none() && !c.is_sensor())
+}
+
+/// Finds or creates the node of a body, fixing its kind; records what was created.
+pub(crate) fn ensure_body_node(
+    graph: &mut ContactGraph,
+    view: &WorldView,
+    handle: RigidBodyHandle,
+    created: &mut Vec<NodeId>,
+) -> Option<NodeId> {
+    let rb = view.bodies.get(handle)?;
+    let kind = kind_of_body(view, handle, rb);
+    match graph.node_of_body(handle) {
+        Some(id) => {
+            if graph.node(id).map(|n| n.kind) != Some(kind) {
+                graph.set_kind(id, kind);
+            }
+            Some(id)
+        }
+        None => {
+            let id = graph.add_node(kind, NodeSource::Body(handle));
+            created.push(id);
+            Some(id)
+        }
+    }
+}
+
+/// Finds or creates the node standing for the body (or static geometry) of a collider.
+pub(crate) fn ensure_collider_owner(
+    graph: &mut ContactGraph,
+    view: &WorldView,
+    collider: ColliderHandle,
+    created: &mut Vec<NodeId>,
+) -> Option<NodeId> {
+    let c = view.colliders.get(collider)?;
+    match c.parent() {
+        Some(parent) => ensure_body_node(graph, view, parent, created),
+        None if !c.is_sensor() => Some(match graph.node_of_static_collider(collider) {
+            Some(id) => id,
+            None => {
+                let id = graph.add_node(NodeKind::Fixed, NodeSource::StaticCollider(collider));
+                created.push(id);
+                id
+            }
+        }),
+        None => None,
+    }
+}
+
+/// Whether the Rapier object behind a node still exists.
+pub(crate) fn source_exists(view: &WorldView, source: NodeSource) -> bool {
+    match source {
+        NodeSource::Body(h) => view.bodies.contains(h),
+        NodeSource::StaticCollider(h) => is_static_collider_node(view, h),
+        NodeSource::Layer(_) => true,
+    }
+}
+
+/// Full scan: one node per body and per static collider, no node without its object.
+/// Returns the nodes whose object is gone (the caller removes them and reports).
+/// O(bodies + colliders + nodes).
+pub(crate) fn full_sync(
+    graph: &mut ContactGraph,
+    view: &WorldView,
+    created: &mut Vec<NodeId>,
+) -> Vec<NodeId> {
+    let gone: Vec<NodeId> = graph
+        .nodes()
+        .filter(|(_, n)| !source_exists(view, n.source))
+        .map(|(id, _)| id)
+        .collect();
+    for (h, _) in view.bodies.iter() {
+        ensure_body_node(graph, view, h, created);
+    }
+    for (h, c) in view.colliders.iter() {
+        if c.parent().is_none() && !c.is_sensor() {
+            ensure_collider_owner(graph, view, h, created);
+        }
+    }
+    gone
+}

@@ -1,0 +1,71 @@
+//! Errors returned by the `try_` queries and by validation.
+//!
+//! The library never panics on a user mistake: a stale id, a removed body or a body
+//! the layer has not seen yet give an [`Error`]; the panicking conveniences say so in
+//! their docs and each has a `try_` twin.
+
+use std::fmt;
+
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+
+use crate::{EdgeId, NodeId};
+
+/// What went wrong.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// The node id names a slot that was freed (the node was removed) or reused since.
+    StaleNode(NodeId),
+    /// The edge id names a slot that was freed or reused since.
+    StaleEdge(EdgeId),
+    /// The body has no node: it was removed, never inserted in the Rapier world, or
+    /// inserted after the layer's last update.
+    UnknownBody(RigidBodyHandle),
+    /// The collider has no node (only parentless colliders have their own node).
+    UnknownCollider(ColliderHandle),
+    /// The node exists but is not of a kind the call accepts.
+    WrongKind {
+        /// The node.
+        node: NodeId,
+        /// What the call expected, in words.
+        expected: &'static str,
+    },
+    /// A value that must be finite was not.
+    NonFinite(&'static str),
+    /// A parameter is out of its range.
+    InvalidParameter {
+        /// The parameter's name.
+        name: &'static str,
+        /// Why it is refused.
+        reason: String,
+    },
+    /// An invariant of the graph does not hold (reported by `validate()`).
+    Invariant(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::StaleNode(n) => write!(f, "node {n:?} was removed (stale id)"),
+            Error::StaleEdge(e) => write!(f, "edge {e:?} was removed (stale id)"),
+            Error::UnknownBody(h) => write!(
+                f,
+                "rigid body {h:?} has no node (removed, or not seen by the layer yet)"
+            ),
+            Error::UnknownCollider(h) => write!(f, "collider {h:?} has no node"),
+            Error::WrongKind { node, expected } => {
+                write!(f, "node {node:?} is not {expected}")
+            }
+            Error::NonFinite(what) => write!(f, "{what} is not finite"),
+            Error::InvalidParameter { name, reason } => {
+                write!(f, "invalid parameter `{name}`: {reason}")
+            }
+            Error::Invariant(msg) => write!(f, "graph invariant violated: {msg}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

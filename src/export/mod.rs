@@ -1,0 +1,3 @@
+//! Pictures of the contact graph.
+
+pub mod dot;

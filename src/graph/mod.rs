@@ -1,0 +1,493 @@
+//! The contact graph (paper §2): typed nodes, typed edges keyed by the sorted node
+//! pair, adjacency both ways, and the per-edge cache.
+//!
+//! # Design
+//! Chosen: two slot arenas with free lists (nodes, edges), a hash map from
+//! [`PairKey`] to edge for the O(1) "edge of two nodes" query the paper asks for, and
+//! an incident-edge list per node. Iteration always goes through the arenas in slot
+//! order, so it is deterministic and independent of hashing.
+//!
+//! Rejected: `petgraph::StableGraph` as the store. It has the right shape (stable
+//! indices, both-way adjacency) but no generations, so a user's stale id would
+//! silently name a recycled node, and finding the edge of two nodes is O(degree)
+//! without a side map anyway. [`ContactGraph::to_petgraph`] exports a snapshot for
+//! users who want petgraph's algorithms; the tests use it to check the groups against
+//! petgraph's connected components.
+//!
+//! Rejected: one node per collider. Rapier pairs colliders, but the paper's entities
+//! are bodies; an edge aggregates all collider pairs of two bodies, which is what
+//! group traversal and "what touches X" need.
+//!
+//! The graph itself is passive storage. [`crate::ContactLayer`] keeps it in step with
+//! a Rapier world; users read it.
+
+mod arena;
+mod edge;
+mod id;
+mod node;
+pub(crate) mod validate;
+
+use std::collections::HashMap;
+
+use rapier3d::math::{Real, Vector};
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+
+pub(crate) use arena::Arena;
+pub use edge::{ContactCache, Edge, EdgeKind, Transition};
+pub use id::{EdgeId, NodeId, PairBuildHasher, PairHasher, PairKey};
+pub use node::{Category, Node, NodeKind, NodeSource};
+
+use crate::{Error, Result};
+
+/// The contact graph of a scene.
+///
+/// Costs: node and edge lookups by id, by body handle and by node pair are O(1);
+/// iterating a node's neighbours is O(degree); iterating all nodes or edges is
+/// O(slots).
+#[derive(Clone, Debug, Default)]
+pub struct ContactGraph {
+    pub(crate) nodes: Arena<Node>,
+    pub(crate) edges: Arena<Edge>,
+    pairs: HashMap<PairKey, EdgeId, PairBuildHasher>,
+    /// Body handle index → node (checked against the node's source for generation).
+    body_nodes: Vec<Option<NodeId>>,
+    /// Parentless collider index → node.
+    collider_nodes: Vec<Option<NodeId>>,
+    kind_counts: [usize; 9],
+}
+
+fn kind_slot(kind: NodeKind) -> usize {
+    NodeKind::ALL.iter().position(|k| *k == kind).unwrap_or(0)
+}
+
+fn set_slot(map: &mut Vec<Option<NodeId>>, index: u32, value: Option<NodeId>) {
+    let i = index as usize;
+    if map.len() <= i {
+        map.resize(i + 1, None);
+    }
+    map[i] = value;
+}
+
+impl ContactGraph {
+    /// An empty graph.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    // ── Nodes ──────────────────────────────────────────────────────────
+
+    /// The node `id`, or `None` if it was removed. O(1).
+    #[inline]
+    pub fn node(&self, id: NodeId) -> Option<&Node> {
+        self.nodes.get(id.index(), id.generation())
+    }
+
+    /// The node `id`, or [`Error::StaleNode`]. O(1).
+    #[inline]
+    pub fn try_node(&self, id: NodeId) -> Result<&Node> {
+        self.node(id).ok_or(Error::StaleNode(id))
+    }
+
+    #[inline]
+    pub(crate) fn node_mut(&mut self, id: NodeId) -> Option<&mut Node> {
+        self.nodes.get_mut(id.index(), id.generation())
+    }
+
+    /// Whether `id` names a live node. O(1).
+    #[inline]
+    pub fn contains_node(&self, id: NodeId) -> bool {
+        self.node(id).is_some()
+    }
+
+    /// The id of the live node in slot `index`, if any. O(1).
+    #[inline]
+    pub fn node_id_at(&self, index: u32) -> Option<NodeId> {
+        self.nodes
+            .get_by_index(index)
+            .map(|(g, _)| NodeId::from_raw_parts(index, g))
+    }
+
+    /// The node of a Rapier body. O(1).
+    #[inline]
+    pub fn node_of_body(&self, body: RigidBodyHandle) -> Option<NodeId> {
+        let (i, _) = body.into_raw_parts();
+        let id = (*self.body_nodes.get(i as usize)?)?;
+        match self.node(id)?.source {
+            NodeSource::Body(h) if h == body => Some(id),
+            _ => None,
+        }
+    }
+
+    /// The node of a Rapier body, or [`Error::UnknownBody`]. O(1).
+    #[inline]
+    pub fn try_node_of_body(&self, body: RigidBodyHandle) -> Result<NodeId> {
+        self.node_of_body(body).ok_or(Error::UnknownBody(body))
+    }
+
+    /// The node of a parentless collider (static geometry), or of the parent body of a
+    /// collider attached to one (needs the collider set to find the parent; see
+    /// [`crate::ContactLayer::node_of_collider`]). O(1).
+    #[inline]
+    pub fn node_of_static_collider(&self, collider: ColliderHandle) -> Option<NodeId> {
+        let (i, _) = collider.into_raw_parts();
+        let id = (*self.collider_nodes.get(i as usize)?)?;
+        match self.node(id)?.source {
+            NodeSource::StaticCollider(h) if h == collider => Some(id),
+            _ => None,
+        }
+    }
+
+    /// The Rapier body of a node, if it is a body node. O(1).
+    #[inline]
+    pub fn body_of(&self, node: NodeId) -> Option<RigidBodyHandle> {
+        self.node(node)?.body()
+    }
+
+    /// The Rapier body of a node, or an error naming what is wrong. O(1).
+    pub fn try_body_of(&self, node: NodeId) -> Result<RigidBodyHandle> {
+        self.try_node(node)?.body().ok_or(Error::WrongKind {
+            node,
+            expected: "a body node",
+        })
+    }
+
+    /// All live nodes in slot order. O(slots).
+    pub fn nodes(&self) -> impl Iterator<Item = (NodeId, &Node)> + '_ {
+        self.nodes
+            .iter()
+            .map(|(i, g, n)| (NodeId::from_raw_parts(i, g), n))
+    }
+
+    /// The nodes of one kind, in slot order. O(slots).
+    pub fn nodes_of_kind(&self, kind: NodeKind) -> impl Iterator<Item = (NodeId, &Node)> + '_ {
+        self.nodes().filter(move |(_, n)| n.kind == kind)
+    }
+
+    /// The number of live nodes. O(1).
+    #[inline]
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The number of live nodes of a kind. O(1).
+    #[inline]
+    pub fn count_of_kind(&self, kind: NodeKind) -> usize {
+        self.kind_counts[kind_slot(kind)]
+    }
+
+    // ── Edges ──────────────────────────────────────────────────────────
+
+    /// The edge `id`, or `None` if it was removed. O(1).
+    #[inline]
+    pub fn edge(&self, id: EdgeId) -> Option<&Edge> {
+        self.edges.get(id.index(), id.generation())
+    }
+
+    /// The edge `id`, or [`Error::StaleEdge`]. O(1).
+    #[inline]
+    pub fn try_edge(&self, id: EdgeId) -> Result<&Edge> {
+        self.edge(id).ok_or(Error::StaleEdge(id))
+    }
+
+    #[inline]
+    pub(crate) fn edge_mut(&mut self, id: EdgeId) -> Option<&mut Edge> {
+        self.edges.get_mut(id.index(), id.generation())
+    }
+
+    /// The edge between two nodes, in either order. O(1) expected.
+    #[inline]
+    pub fn edge_between(&self, a: NodeId, b: NodeId) -> Option<EdgeId> {
+        let id = *self.pairs.get(&PairKey::of(a, b))?;
+        let e = self.edge(id)?;
+        // Guard against stale node ids whose slots were reused.
+        ((e.a == a && e.b == b) || (e.a == b && e.b == a)).then_some(id)
+    }
+
+    /// The edge between two nodes, or the error for whichever node is stale; `Ok(None)`
+    /// when both live and no edge joins them. O(1) expected.
+    pub fn try_edge_between(&self, a: NodeId, b: NodeId) -> Result<Option<EdgeId>> {
+        self.try_node(a)?;
+        self.try_node(b)?;
+        Ok(self.edge_between(a, b))
+    }
+
+    /// The edge between two Rapier bodies. O(1) expected.
+    pub fn edge_of_bodies(&self, b1: RigidBodyHandle, b2: RigidBodyHandle) -> Option<&Edge> {
+        let id = self.edge_between(self.node_of_body(b1)?, self.node_of_body(b2)?)?;
+        self.edge(id)
+    }
+
+    /// The edge with a given pair key. O(1) expected.
+    #[inline]
+    pub fn edge_by_key(&self, key: PairKey) -> Option<EdgeId> {
+        self.pairs.get(&key).copied()
+    }
+
+    /// All live edges in slot order. O(slots).
+    pub fn edges(&self) -> impl Iterator<Item = (EdgeId, &Edge)> + '_ {
+        self.edges
+            .iter()
+            .map(|(i, g, e)| (EdgeId::from_raw_parts(i, g), e))
+    }
+
+    /// The number of live edges. O(1).
+    #[inline]
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// The neighbours of `n` with the joining edge, in edge insertion order.
+    /// Empty for a stale id. O(degree).
+    pub fn neighbors(&self, n: NodeId) -> impl Iterator<Item = (NodeId, EdgeId, &Edge)> + '_ {
+        self.node(n)
+            .map(|node| node.edges.as_slice())
+            .unwrap_or(&[])
+            .iter()
+            .filter_map(move |&eid| {
+                let e = self.edge(eid)?;
+                Some((e.other(n)?, eid, e))
+            })
+    }
+
+    /// The nodes touching `n` now ("what touches X"). Empty for a stale id.
+    /// O(degree).
+    pub fn touching(&self, n: NodeId) -> impl Iterator<Item = NodeId> + '_ {
+        self.neighbors(n)
+            .filter(|(_, _, e)| e.kind == EdgeKind::Physical && e.cache.touching)
+            .map(|(m, _, _)| m)
+    }
+
+    /// Whether `n` is supported: it touches some node through a contact whose normal,
+    /// as seen pushing on `n`, points against gravity (more than `min_cos` of the unit
+    /// push along `-gravity`; 0.0 accepts any upward component). O(degree).
+    ///
+    /// A zero gravity supports nothing. A stale id is an error.
+    pub fn try_is_supported(&self, n: NodeId, gravity: Vector, min_cos: Real) -> Result<bool> {
+        self.try_node(n)?;
+        let g = gravity.length();
+        if !(g > 0.0) {
+            return Ok(false);
+        }
+        let up = -gravity / g;
+        Ok(self.supports_of(n, up, min_cos).next().is_some())
+    }
+
+    /// The nodes supporting `n` against gravity (see [`Self::try_is_supported`]);
+    /// `up` must be a unit vector opposite to gravity. Empty for a stale id.
+    /// O(degree).
+    pub fn supports_of(
+        &self,
+        n: NodeId,
+        up: Vector,
+        min_cos: Real,
+    ) -> impl Iterator<Item = NodeId> + '_ {
+        self.neighbors(n).filter_map(move |(m, _, e)| {
+            if e.kind != EdgeKind::Physical || !e.cache.touching {
+                return None;
+            }
+            // The normal points from A to B: it pushes B along +normal, A along -normal.
+            let push = if e.b == n {
+                e.cache.normal
+            } else {
+                -e.cache.normal
+            };
+            (push.dot(up) > min_cos).then_some(m)
+        })
+    }
+
+    // ── Mutation (crate-internal: the layer owns the graph's consistency) ──
+
+    pub(crate) fn add_node(&mut self, kind: NodeKind, source: NodeSource) -> NodeId {
+        let (i, g) = self.nodes.insert(Node::new(kind, source));
+        let id = NodeId::from_raw_parts(i, g);
+        match source {
+            NodeSource::Body(h) => set_slot(&mut self.body_nodes, h.into_raw_parts().0, Some(id)),
+            NodeSource::StaticCollider(h) => {
+                set_slot(&mut self.collider_nodes, h.into_raw_parts().0, Some(id))
+            }
+            NodeSource::Layer(_) => {}
+        }
+        self.kind_counts[kind_slot(kind)] += 1;
+        id
+    }
+
+    pub(crate) fn set_kind(&mut self, id: NodeId, kind: NodeKind) {
+        let old = match self.node_mut(id) {
+            Some(n) => std::mem::replace(&mut n.kind, kind),
+            None => return,
+        };
+        self.kind_counts[kind_slot(old)] -= 1;
+        self.kind_counts[kind_slot(kind)] += 1;
+    }
+
+    /// Removes a node and its edges; the removed edges are returned (in the node's
+    /// edge order) so their vanishing can be reported.
+    pub(crate) fn remove_node(&mut self, id: NodeId) -> Vec<Edge> {
+        let Some(node) = self.node(id) else {
+            return Vec::new();
+        };
+        let incident = node.edges.clone();
+        let removed: Vec<Edge> = incident
+            .into_iter()
+            .filter_map(|e| self.remove_edge(e))
+            .collect();
+        if let Some(node) = self.nodes.remove(id.index(), id.generation()) {
+            self.kind_counts[kind_slot(node.kind)] -= 1;
+            match node.source {
+                NodeSource::Body(h) => {
+                    let i = h.into_raw_parts().0 as usize;
+                    if self.body_nodes.get(i) == Some(&Some(id)) {
+                        self.body_nodes[i] = None;
+                    }
+                }
+                NodeSource::StaticCollider(h) => {
+                    let i = h.into_raw_parts().0 as usize;
+                    if self.collider_nodes.get(i) == Some(&Some(id)) {
+                        self.collider_nodes[i] = None;
+                    }
+                }
+                NodeSource::Layer(_) => {}
+            }
+        }
+        removed
+    }
+
+    /// Inserts the edge `{a, b}` of `kind`, or returns the existing one. Both nodes
+    /// must be live and distinct.
+    pub(crate) fn ensure_edge(
+        &mut self,
+        a: NodeId,
+        b: NodeId,
+        kind: EdgeKind,
+        step: u64,
+    ) -> Option<EdgeId> {
+        if a == b || !self.contains_node(a) || !self.contains_node(b) {
+            return None;
+        }
+        let key = PairKey::of(a, b);
+        if let Some(&id) = self.pairs.get(&key) {
+            return Some(id);
+        }
+        let (lo, hi) = if a.index() < b.index() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let (i, g) = self.edges.insert(Edge::new(lo, hi, kind, step));
+        let id = EdgeId::from_raw_parts(i, g);
+        self.pairs.insert(key, id);
+        for n in [lo, hi] {
+            if let Some(node) = self.node_mut(n) {
+                node.edges.push(id);
+            }
+        }
+        Some(id)
+    }
+
+    pub(crate) fn remove_edge(&mut self, id: EdgeId) -> Option<Edge> {
+        let edge = self.edges.remove(id.index(), id.generation())?;
+        self.pairs.remove(&PairKey::of(edge.a, edge.b));
+        for n in [edge.a, edge.b] {
+            if let Some(node) = self.node_mut(n) {
+                if let Some(pos) = node.edges.iter().position(|&e| e == id) {
+                    node.edges.remove(pos);
+                }
+            }
+        }
+        Some(edge)
+    }
+
+    /// A petgraph snapshot of the graph: node weights are the [`NodeId`]s, edge weights
+    /// the [`EdgeId`]s. O(nodes + edges).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier_contact_graph::ContactGraph;
+    /// let g = ContactGraph::new().to_petgraph();
+    /// assert_eq!(g.node_count(), 0);
+    /// ```
+    pub fn to_petgraph(&self) -> petgraph::stable_graph::StableUnGraph<NodeId, EdgeId> {
+        let mut g = petgraph::stable_graph::StableUnGraph::default();
+        let mut map = HashMap::<NodeId, _, PairBuildHasher>::default();
+        for (id, _) in self.nodes() {
+            map.insert(id, g.add_node(id));
+        }
+        for (eid, e) in self.edges() {
+            g.add_edge(map[&e.a], map[&e.b], eid);
+        }
+        g
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(i: u32) -> RigidBodyHandle {
+        RigidBodyHandle::from_raw_parts(i, 0)
+    }
+
+    #[test]
+    fn edges_are_unique_per_pair_and_found_both_ways() {
+        let mut g = ContactGraph::new();
+        let a = g.add_node(NodeKind::Rigid, NodeSource::Body(body(0)));
+        let b = g.add_node(NodeKind::Rigid, NodeSource::Body(body(1)));
+        let e1 = g.ensure_edge(b, a, EdgeKind::Physical, 1).unwrap();
+        let e2 = g.ensure_edge(a, b, EdgeKind::Physical, 2).unwrap();
+        assert_eq!(e1, e2);
+        assert_eq!(g.edge_between(a, b), Some(e1));
+        assert_eq!(g.edge_between(b, a), Some(e1));
+        assert_eq!(g.edge(e1).unwrap().a(), a, "A is the smaller index");
+        assert_eq!(g.neighbors(a).count(), 1);
+        assert!(g.ensure_edge(a, a, EdgeKind::Physical, 1).is_none());
+        g.validate().unwrap();
+    }
+
+    #[test]
+    fn removing_a_node_removes_its_edges_and_stales_its_id() {
+        let mut g = ContactGraph::new();
+        let a = g.add_node(NodeKind::Rigid, NodeSource::Body(body(0)));
+        let b = g.add_node(NodeKind::Fixed, NodeSource::Body(body(1)));
+        let c = g.add_node(NodeKind::Rigid, NodeSource::Body(body(2)));
+        g.ensure_edge(a, b, EdgeKind::Physical, 0);
+        g.ensure_edge(a, c, EdgeKind::Physical, 0);
+        let removed = g.remove_node(a);
+        assert_eq!(removed.len(), 2);
+        assert_eq!(g.edge_count(), 0);
+        assert_eq!(g.try_node(a).unwrap_err(), Error::StaleNode(a));
+        assert_eq!(g.node_of_body(body(0)), None);
+        // Slot reuse does not revive the old id.
+        let d = g.add_node(NodeKind::Rigid, NodeSource::Body(body(3)));
+        assert_eq!(d.index(), a.index());
+        assert!(g.node(a).is_none());
+        assert_eq!(g.edge_between(a, b), None);
+        assert_eq!(g.count_of_kind(NodeKind::Rigid), 2);
+        g.validate().unwrap();
+    }
+
+    #[test]
+    fn body_lookup_checks_generation() {
+        let mut g = ContactGraph::new();
+        let n = g.add_node(NodeKind::Rigid, NodeSource::Body(body(4)));
+        assert_eq!(g.node_of_body(body(4)), Some(n));
+        let newer = RigidBodyHandle::from_raw_parts(4, 1);
+        assert_eq!(g.node_of_body(newer), None);
+        assert_eq!(g.try_node_of_body(newer), Err(Error::UnknownBody(newer)));
+    }
+
+    #[test]
+    fn support_follows_normal_orientation() {
+        let mut g = ContactGraph::new();
+        let ground = g.add_node(NodeKind::Fixed, NodeSource::Body(body(0)));
+        let ball = g.add_node(NodeKind::Rigid, NodeSource::Body(body(1)));
+        let e = g.ensure_edge(ground, ball, EdgeKind::Physical, 0).unwrap();
+        let gravity = Vector::new(0.0, -9.81, 0.0);
+        assert!(!g.try_is_supported(ball, gravity, 0.0).unwrap());
+        let c = &mut g.edge_mut(e).unwrap().cache;
+        c.touching = true;
+        c.normal = Vector::Y; // from A (ground) to B (ball): pushes the ball up.
+        assert!(g.try_is_supported(ball, gravity, 0.5).unwrap());
+        assert!(!g.try_is_supported(ground, gravity, 0.5).unwrap());
+        assert!(!g.try_is_supported(ball, Vector::ZERO, 0.0).unwrap());
+    }
+}

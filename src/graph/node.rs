@@ -1,0 +1,192 @@
+//! Nodes: the entities of a scene (paper Table 1).
+//!
+//! One node per Rapier rigid body (its kind follows the body type and multibody
+//! membership), one `Fixed` node per collider without a parent body (Rapier treats such
+//! colliders as static geometry), and nodes for containers and logical entities.
+//!
+//! A node is a *persistent record*: it lives from the step its entity is seen until the
+//! step its entity is gone. Per-step data (traversal stamps, awake flags) is kept in
+//! the node for locality but is only meaningful for the step it was written in.
+
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+
+use super::EdgeId;
+
+/// The kinds of node of the paper's Table 1, as mapped onto Rapier (DESIGN §2).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum NodeKind {
+    /// (R) a dynamic rigid body.
+    Rigid,
+    /// (F) a fixed rigid body, or a collider without a parent body.
+    Fixed,
+    /// (S) a kinematic (scripted) rigid body.
+    Scripted,
+    /// (L) a dynamic body that is a link of a Rapier multibody.
+    Link,
+    /// (C) a container of bodies rigidly attached.
+    Composite,
+    /// (M) a container of the links of one articulated mechanism.
+    Multibody,
+    /// (A) a user rule.
+    Rule,
+    /// (V) a trigger volume (a sensor collider).
+    Trigger,
+    /// (T) a timer.
+    Timer,
+}
+
+/// The three categories of Table 1.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Category {
+    /// Bodies that interact physically: R, F, L, S.
+    Physical,
+    /// Containers of bodies: C, M.
+    Container,
+    /// Entities without physical influence: A, V, T.
+    Logical,
+}
+
+impl NodeKind {
+    /// The paper's symbol letter: R, F, L, S, C, M, A, V, T.
+    pub const fn letter(self) -> char {
+        match self {
+            NodeKind::Rigid => 'R',
+            NodeKind::Fixed => 'F',
+            NodeKind::Scripted => 'S',
+            NodeKind::Link => 'L',
+            NodeKind::Composite => 'C',
+            NodeKind::Multibody => 'M',
+            NodeKind::Rule => 'A',
+            NodeKind::Trigger => 'V',
+            NodeKind::Timer => 'T',
+        }
+    }
+
+    /// The category of the kind.
+    pub const fn category(self) -> Category {
+        match self {
+            NodeKind::Rigid | NodeKind::Fixed | NodeKind::Scripted | NodeKind::Link => {
+                Category::Physical
+            }
+            NodeKind::Composite | NodeKind::Multibody => Category::Container,
+            NodeKind::Rule | NodeKind::Trigger | NodeKind::Timer => Category::Logical,
+        }
+    }
+
+    /// Fixed and scripted bodies "behave as if they had infinite mass": they insulate
+    /// contact groups (paper Fig. 8).
+    pub const fn is_insulator(self) -> bool {
+        matches!(self, NodeKind::Fixed | NodeKind::Scripted)
+    }
+
+    /// Bodies moved by the solver: rigid and link bodies.
+    pub const fn is_simulated(self) -> bool {
+        matches!(self, NodeKind::Rigid | NodeKind::Link)
+    }
+
+    /// All kinds, in Table 1 order.
+    pub const ALL: [NodeKind; 9] = [
+        NodeKind::Rigid,
+        NodeKind::Fixed,
+        NodeKind::Link,
+        NodeKind::Scripted,
+        NodeKind::Composite,
+        NodeKind::Multibody,
+        NodeKind::Rule,
+        NodeKind::Trigger,
+        NodeKind::Timer,
+    ];
+}
+
+/// What in the Rapier world (or in the layer) a node stands for.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum NodeSource {
+    /// A rigid body.
+    Body(RigidBodyHandle),
+    /// A collider without a parent body (static geometry).
+    StaticCollider(ColliderHandle),
+    /// A node that only the layer knows (containers, rules, triggers, timers); the
+    /// number is the layer's own key for it.
+    Layer(u64),
+}
+
+/// A node of the contact graph.
+#[derive(Clone, Debug)]
+pub struct Node {
+    pub(crate) kind: NodeKind,
+    pub(crate) source: NodeSource,
+    /// Incident edges, in insertion order.
+    pub(crate) edges: Vec<EdgeId>,
+    /// Awake in Rapier at the last update (dynamic or kinematic, not sleeping).
+    pub(crate) awake: bool,
+    /// The body's pose was not finite at the last update.
+    pub(crate) non_finite: bool,
+    /// The step of the last refresh of this node's state.
+    pub(crate) seen_step: u64,
+    /// Traversal stamp (per-step data).
+    pub(crate) visit_stamp: u64,
+    /// Index of the node's group in [`crate::Groups`] (per-step data for awake groups).
+    pub(crate) group: Option<crate::GroupId>,
+}
+
+impl Node {
+    pub(crate) fn new(kind: NodeKind, source: NodeSource) -> Self {
+        Self {
+            kind,
+            source,
+            edges: Vec::new(),
+            awake: false,
+            non_finite: false,
+            seen_step: 0,
+            visit_stamp: 0,
+            group: None,
+        }
+    }
+
+    /// The node's kind.
+    #[inline]
+    pub fn kind(&self) -> NodeKind {
+        self.kind
+    }
+    /// What the node stands for.
+    #[inline]
+    pub fn source(&self) -> NodeSource {
+        self.source
+    }
+    /// The Rapier body of the node, if it is a body node.
+    #[inline]
+    pub fn body(&self) -> Option<RigidBodyHandle> {
+        match self.source {
+            NodeSource::Body(h) => Some(h),
+            _ => None,
+        }
+    }
+    /// The incident edges (both directions: edges are undirected). O(1).
+    #[inline]
+    pub fn edges(&self) -> &[EdgeId] {
+        &self.edges
+    }
+    /// The number of incident edges.
+    #[inline]
+    pub fn degree(&self) -> usize {
+        self.edges.len()
+    }
+    /// Whether the body was awake (moving, in Rapier's active set) at the last update.
+    /// Always `false` for fixed bodies and non-body nodes.
+    #[inline]
+    pub fn is_awake(&self) -> bool {
+        self.awake
+    }
+    /// Whether the body's pose was not finite at the last update. Such a body keeps its
+    /// node and edges but takes part in no geometric test until its pose is finite again.
+    #[inline]
+    pub fn is_non_finite(&self) -> bool {
+        self.non_finite
+    }
+    /// The contact group the node belonged to at the last update (`None` for insulators,
+    /// logical nodes and bodies not yet grouped).
+    #[inline]
+    pub fn group(&self) -> Option<crate::GroupId> {
+        self.group
+    }
+}

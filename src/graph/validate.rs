@@ -1,0 +1,152 @@
+//! The graph's own invariants (the layer adds the checks against Rapier).
+//!
+//! `validate()` is O(nodes + edges) and meant for tests and debugging: the test suite
+//! calls it after every step of every scene.
+
+use super::{Category, ContactGraph, EdgeKind, NodeKind, NodeSource, PairKey};
+use crate::{Error, Result};
+
+fn fail<T>(msg: String) -> Result<T> {
+    Err(Error::Invariant(msg))
+}
+
+/// Whether an edge of `kind` may join nodes of kinds `x` and `y` (Table 2).
+pub(crate) fn edge_allowed(kind: EdgeKind, x: NodeKind, y: NodeKind) -> bool {
+    let pair = |p: fn(NodeKind) -> bool, q: fn(NodeKind) -> bool| (p(x) && q(y)) || (p(y) && q(x));
+    let physical = |k: NodeKind| k.category() == Category::Physical;
+    match kind {
+        // Physical edges need a body the solver moves: no F–F, S–S, F–S.
+        EdgeKind::Physical => physical(x) && physical(y) && (x.is_simulated() || y.is_simulated()),
+        EdgeKind::Logical => pair(|k| k == NodeKind::Rule, physical),
+        EdgeKind::Geometric => pair(|k| k == NodeKind::Trigger, physical),
+        EdgeKind::Structural => pair(|k| k.category() == Category::Container, physical),
+    }
+}
+
+impl ContactGraph {
+    /// Checks every invariant of the graph on its own: edge ends live and sorted,
+    /// adjacency lists and the pair map agree with the edge arena, edge kinds agree
+    /// with node kinds (Table 2), per-kind counts and the body lookup are right.
+    /// O(nodes + edges).
+    pub fn validate(&self) -> Result<()> {
+        let mut kind_counts = [0usize; 9];
+        let mut adjacency_total = 0usize;
+        for (id, node) in self.nodes() {
+            kind_counts[NodeKind::ALL
+                .iter()
+                .position(|k| *k == node.kind)
+                .unwrap_or(0)] += 1;
+            adjacency_total += node.edges.len();
+            for (i, &eid) in node.edges.iter().enumerate() {
+                let Some(e) = self.edge(eid) else {
+                    return fail(format!("node {id:?} lists dead edge {eid:?}"));
+                };
+                if e.a != id && e.b != id {
+                    return fail(format!("node {id:?} lists edge {eid:?} not incident to it"));
+                }
+                if node.edges[..i].contains(&eid) {
+                    return fail(format!("node {id:?} lists edge {eid:?} twice"));
+                }
+            }
+            match node.source {
+                NodeSource::Body(h) => {
+                    if self.node_of_body(h) != Some(id) {
+                        return fail(format!("body lookup of {h:?} does not give {id:?}"));
+                    }
+                }
+                NodeSource::StaticCollider(h) => {
+                    if self.node_of_static_collider(h) != Some(id) {
+                        return fail(format!("collider lookup of {h:?} does not give {id:?}"));
+                    }
+                    if node.kind != NodeKind::Fixed {
+                        return fail(format!("static collider node {id:?} is not Fixed"));
+                    }
+                }
+                NodeSource::Layer(_) => {}
+            }
+        }
+        for (i, k) in NodeKind::ALL.iter().enumerate() {
+            if kind_counts[i] != self.count_of_kind(*k) {
+                return fail(format!(
+                    "count of {k:?} is {} but {} nodes have it",
+                    self.count_of_kind(*k),
+                    kind_counts[i]
+                ));
+            }
+        }
+        if self.pairs.len() != self.edge_count() {
+            return fail(format!(
+                "pair map holds {} keys for {} edges",
+                self.pairs.len(),
+                self.edge_count()
+            ));
+        }
+        if adjacency_total != 2 * self.edge_count() {
+            return fail(format!(
+                "adjacency lists hold {adjacency_total} entries for {} edges",
+                self.edge_count()
+            ));
+        }
+        for (eid, e) in self.edges() {
+            let (Some(na), Some(nb)) = (self.node(e.a), self.node(e.b)) else {
+                return fail(format!("edge {eid:?} has a dead end"));
+            };
+            if e.a.index() >= e.b.index() {
+                return fail(format!("edge {eid:?} ends are not sorted"));
+            }
+            if self.edge_by_key(PairKey::of(e.a, e.b)) != Some(eid) {
+                return fail(format!("pair map does not give {eid:?}"));
+            }
+            if !na.edges.contains(&eid) || !nb.edges.contains(&eid) {
+                return fail(format!("edge {eid:?} missing from an adjacency list"));
+            }
+            if !edge_allowed(e.kind, na.kind, nb.kind) {
+                return fail(format!(
+                    "edge {eid:?} of kind {:?} joins {:?} and {:?}",
+                    e.kind, na.kind, nb.kind
+                ));
+            }
+            let c = &e.cache;
+            if e.kind == EdgeKind::Physical {
+                if c.touching && !c.proximity {
+                    return fail(format!("edge {eid:?} touches without proximity"));
+                }
+                if c.touching_old && !c.proximity_old {
+                    return fail(format!("edge {eid:?} touched without proximity (old)"));
+                }
+                if (c.contact_count > 0) != c.touching {
+                    return fail(format!(
+                        "edge {eid:?}: {} contacts but touching = {}",
+                        c.contact_count, c.touching
+                    ));
+                }
+                if c.max_penetration < 0.0 || c.max_penetration.is_nan() {
+                    return fail(format!(
+                        "edge {eid:?} has penetration {}",
+                        c.max_penetration
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_2_pairs() {
+        use NodeKind::*;
+        assert!(edge_allowed(EdgeKind::Physical, Rigid, Fixed));
+        assert!(edge_allowed(EdgeKind::Physical, Link, Scripted));
+        assert!(!edge_allowed(EdgeKind::Physical, Fixed, Fixed));
+        assert!(!edge_allowed(EdgeKind::Physical, Fixed, Scripted));
+        assert!(!edge_allowed(EdgeKind::Geometric, Trigger, Trigger));
+        assert!(edge_allowed(EdgeKind::Geometric, Fixed, Trigger));
+        assert!(edge_allowed(EdgeKind::Structural, Multibody, Link));
+        assert!(!edge_allowed(EdgeKind::Structural, Multibody, Rule));
+        assert!(edge_allowed(EdgeKind::Logical, Rule, Scripted));
+    }
+}

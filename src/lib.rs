@@ -1,0 +1,54 @@
+//! # rapier-contact-graph
+//!
+//! Kenny Erleben's *Contact Graphs in Multibody Dynamics Simulation* (DIKU TR-04/06)
+//! as a drop-in layer for stock [`rapier3d`] 0.36: a persistent, typed contact graph
+//! of the whole scene, the Spatial-Temporal Coherence (STC) marks, and contact groups,
+//! kept in step with a Rapier world by one call per step.
+//!
+//! ```
+//! use rapier3d::prelude::*;
+//! use rapier_contact_graph::ContactLayer;
+//!
+//! let mut world = PhysicsWorld::new();
+//! world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+//! world.insert(
+//!     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+//!     ColliderBuilder::ball(0.5),
+//! );
+//! let mut layer = ContactLayer::new();
+//! let stats = layer.step(&mut world); // Rapier's step + the analysis
+//! assert_eq!(stats.nodes, 2);
+//! ```
+//!
+//! # Architecture (the paper's phases as modules)
+//! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
+//! - [`coherence`]: the STC analysis after each Rapier step (§3): node upkeep,
+//!   edge insertion, proximity and touching marks, obsolete removal;
+//! - [`groups`]: contact groups by the traversal of Figs. 7–8;
+//! - [`export`]: Graphviz pictures of the graph (Figs. 2 and 9);
+//! - [`scenes`]: small deterministic scenes shared by examples, tests and benchmarks;
+//! - [`ContactLayer`] ties them together.
+
+#![warn(missing_docs)]
+
+pub mod coherence;
+mod error;
+pub mod export;
+pub mod graph;
+pub mod groups;
+mod layer;
+pub mod scenes;
+mod validate;
+mod world;
+
+pub use error::{Error, Result};
+pub use graph::{
+    Category, ContactCache, ContactGraph, Edge, EdgeId, EdgeKind, Node, NodeId, NodeKind,
+    NodeSource, PairKey, Transition,
+};
+pub use groups::{Group, GroupId, GroupStats, Groups};
+pub use layer::{ContactLayer, StepStats};
+pub use world::WorldView;
+
+/// Re-export of the Rapier version this crate is built against.
+pub use rapier3d;

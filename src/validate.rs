@@ -1,0 +1,172 @@
+//! `validate()`: every invariant of the layer, including the graph against Rapier.
+//!
+//! Meant for tests and debugging (the test suite runs it after every step). It walks
+//! everything — all bodies, colliders, Rapier pairs, nodes, edges and groups — so it
+//! costs O(world), unlike the per-step upkeep.
+
+use std::collections::HashMap;
+
+use crate::coherence::nodes::{is_static_collider_node, kind_of_body};
+use crate::graph::validate::edge_allowed;
+use crate::graph::{EdgeKind, NodeKind, PairBuildHasher, PairKey};
+use crate::{ContactLayer, Error, Result, WorldView};
+
+fn fail<T>(msg: String) -> Result<T> {
+    Err(Error::Invariant(msg))
+}
+
+pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<()> {
+    let graph = layer.graph();
+    graph.validate()?;
+
+    // Nodes against bodies and static colliders.
+    let mut physical_nodes = 0usize;
+    for (h, rb) in view.bodies.iter() {
+        let Some(id) = graph.node_of_body(h) else {
+            return fail(format!("body {h:?} has no node"));
+        };
+        let kind = graph.try_node(id)?.kind();
+        let want = kind_of_body(view, h, rb);
+        if kind != want {
+            return fail(format!(
+                "node {id:?} of body {h:?} is {kind:?}, body is {want:?}"
+            ));
+        }
+        physical_nodes += 1;
+    }
+    for (h, _) in view.colliders.iter() {
+        if is_static_collider_node(view, h) {
+            if graph.node_of_static_collider(h).is_none() {
+                return fail(format!("static collider {h:?} has no node"));
+            }
+            physical_nodes += 1;
+        }
+    }
+    let graph_physical: usize = [
+        NodeKind::Rigid,
+        NodeKind::Fixed,
+        NodeKind::Scripted,
+        NodeKind::Link,
+    ]
+    .iter()
+    .map(|k| graph.count_of_kind(*k))
+    .sum();
+    if graph_physical != physical_nodes {
+        return fail(format!(
+            "{graph_physical} body nodes for {physical_nodes} bodies and static colliders"
+        ));
+    }
+
+    // Rapier pairs against physical edges.
+    let owner = |c| {
+        let col = view.colliders.get(c)?;
+        match col.parent() {
+            Some(b) => graph.node_of_body(b),
+            None => graph.node_of_static_collider(c),
+        }
+    };
+    let mut rapier_pairs: HashMap<PairKey, bool, PairBuildHasher> = HashMap::default();
+    for pair in view.narrow_phase.contact_pairs() {
+        let sensor = |c| view.colliders.get(c).is_none_or(|c| c.is_sensor());
+        if sensor(pair.collider1) || sensor(pair.collider2) {
+            continue;
+        }
+        let (Some(n1), Some(n2)) = (owner(pair.collider1), owner(pair.collider2)) else {
+            return fail(format!(
+                "Rapier pair {:?}–{:?} has a collider without node",
+                pair.collider1, pair.collider2
+            ));
+        };
+        let (k1, k2) = (graph.try_node(n1)?.kind(), graph.try_node(n2)?.kind());
+        if n1 == n2 || !edge_allowed(EdgeKind::Physical, k1, k2) {
+            continue;
+        }
+        *rapier_pairs.entry(PairKey::of(n1, n2)).or_insert(false) |= pair.has_any_active_contact();
+    }
+    for (&key, &touching) in &rapier_pairs {
+        let Some(eid) = graph.edge_by_key(key) else {
+            return fail(format!(
+                "Rapier pair of nodes {}–{} has no edge",
+                key.a(),
+                key.b()
+            ));
+        };
+        let e = graph.try_edge(eid)?;
+        if e.kind() != EdgeKind::Physical || !e.is_proximate() {
+            return fail(format!("edge {eid:?} of a Rapier pair is not proximate"));
+        }
+        if e.is_touching() != touching {
+            return fail(format!(
+                "edge {eid:?} touching = {}, Rapier says {touching}",
+                e.is_touching()
+            ));
+        }
+    }
+    for (eid, e) in graph.edges() {
+        if e.kind() == EdgeKind::Physical
+            && e.is_proximate()
+            && !rapier_pairs.contains_key(&PairKey::of(e.a(), e.b()))
+        {
+            return fail(format!("edge {eid:?} is proximate without a Rapier pair"));
+        }
+    }
+
+    // Groups.
+    let groups = layer.groups();
+    for (gid, g) in groups.iter() {
+        for &n in &g.bodies {
+            let node = graph
+                .try_node(n)
+                .map_err(|_| Error::Invariant(format!("group {gid:?} holds dead node {n:?}")))?;
+            if node.kind().is_insulator() {
+                return fail(format!("group {gid:?} holds insulator {n:?}"));
+            }
+            if node.group() != Some(gid) {
+                return fail(format!(
+                    "node {n:?} is in group {gid:?} but points to {:?}",
+                    node.group()
+                ));
+            }
+        }
+    }
+    for (id, node) in graph.nodes() {
+        let simulated = node.kind().is_simulated();
+        if simulated && node.is_awake() && node.group().is_none() {
+            return fail(format!("awake body {id:?} has no group"));
+        }
+        if let Some(gid) = node.group() {
+            let Some(g) = groups.get(gid) else {
+                return fail(format!("node {id:?} points to dead group {gid:?}"));
+            };
+            if !g.bodies.contains(&id) {
+                return fail(format!(
+                    "node {id:?} points to group {gid:?} not holding it"
+                ));
+            }
+        }
+    }
+    for (eid, e) in graph.edges() {
+        let joins = match e.kind() {
+            EdgeKind::Physical => e.is_touching(),
+            EdgeKind::Structural => true,
+            _ => false,
+        };
+        if !joins {
+            continue;
+        }
+        let (Some(a), Some(b)) = (graph.node(e.a()), graph.node(e.b())) else {
+            continue;
+        };
+        if a.kind().is_insulator() || b.kind().is_insulator() {
+            continue;
+        }
+        if a.group().is_some() && a.group() != b.group() {
+            return fail(format!(
+                "edge {eid:?} joins groups {:?} and {:?}",
+                a.group(),
+                b.group()
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,39 @@
+//! Attaching the layer changes nothing in Rapier's results (DESIGN §7).
+
+mod common;
+
+use rapier_contact_graph::scenes;
+use rapier_contact_graph::ContactLayer;
+
+#[test]
+fn settling_pile_is_bit_identical_with_and_without_the_layer() {
+    let mut plain = scenes::sphere_pile(300, 7);
+    let mut observed = scenes::sphere_pile(300, 7);
+    let mut layer = ContactLayer::new();
+    for step in 0..1000u64 {
+        plain.before_step(step);
+        plain.world.step();
+        observed.before_step(step);
+        layer.step(&mut observed.world);
+        {
+            assert_eq!(
+                common::pose_bits(&plain.world),
+                common::pose_bits(&observed.world),
+                "trajectories differ at step {step}"
+            );
+            layer.validate(&observed.world).unwrap();
+        }
+    }
+    assert!(layer.graph().edge_count() > 300, "the pile has contacts");
+}
+
+#[test]
+fn no_hook_or_event_flag_is_set_on_any_collider() {
+    let mut scene = scenes::two_piles_with_wall();
+    let mut layer = ContactLayer::new();
+    common::run_validated(&mut scene, &mut layer, 0, 50);
+    for (_, c) in scene.world.colliders.iter() {
+        assert!(c.active_hooks().is_empty());
+        assert!(c.active_events().is_empty());
+    }
+}
