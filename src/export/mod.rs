@@ -1,3 +1,4 @@
 //! Pictures of the contact graph.
 
 pub mod dot;
+pub mod text;

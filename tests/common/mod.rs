@@ -37,3 +37,49 @@ pub fn pose_bits(world: &PhysicsWorld) -> Vec<[u32; 7]> {
         })
         .collect()
 }
+
+use std::collections::HashMap;
+
+use rapier_contact_graph::NodeId;
+
+/// Names nodes after the scene's named bodies; remembers names of nodes removed later.
+#[derive(Default)]
+pub struct Names(HashMap<NodeId, String>);
+
+impl Names {
+    /// Learns the names of the scene's bodies that have nodes now.
+    pub fn learn(&mut self, scene: &Scene, layer: &ContactLayer) {
+        for (name, h) in &scene.bodies {
+            if let Some(n) = layer.graph().node_of_body(*h) {
+                self.0.entry(n).or_insert_with(|| name.to_string());
+            }
+        }
+        // Unnamed bodies get their kind letter and handle index.
+        for (id, node) in layer.graph().nodes() {
+            self.0.entry(id).or_insert_with(|| match node.body() {
+                Some(h) => format!("{}#{}", node.kind().letter(), h.into_raw_parts().0),
+                None => format!("{id:?}"),
+            });
+        }
+    }
+
+    /// The text form of the layer's state with these names.
+    pub fn describe(&self, layer: &ContactLayer) -> String {
+        rapier_contact_graph::export::text::describe(layer, &|n| self.0.get(&n).cloned())
+    }
+}
+
+/// Runs a scene and snapshots its state at the given (1-based, ascending) frames.
+pub fn snapshot_frames(mut scene: Scene, frames: &[u64]) -> Vec<(u64, String)> {
+    let mut layer = ContactLayer::new();
+    let mut names = Names::default();
+    let mut out = Vec::new();
+    let mut done = 0;
+    for &f in frames {
+        run_validated(&mut scene, &mut layer, done, f - done);
+        done = f;
+        names.learn(&scene, &layer);
+        out.push((f, names.describe(&layer)));
+    }
+    out
+}
