@@ -117,7 +117,8 @@ impl ContactLayer {
         self.coherence.step()
     }
 
-    /// Edges refreshed in the last step (their marks are valid), in slot order.
+    /// Edges refreshed in the last step (their marks are valid), in the deterministic
+    /// order of [`Coherence::touched_edges`].
     pub fn touched_edges(&self) -> impl Iterator<Item = (EdgeId, &Edge)> + '_ {
         self.coherence
             .touched_edges()
@@ -139,6 +140,19 @@ impl ContactLayer {
     /// Counters and lists of the last analysis.
     pub fn coherence(&self) -> &Coherence {
         &self.coherence
+    }
+
+    /// The analysis state, for its settings ([`Coherence::set_scan_policy`], ...).
+    pub fn coherence_mut(&mut self) -> &mut Coherence {
+        &mut self.coherence
+    }
+
+    /// Turns the per-edge contact details on (the default) or off; see
+    /// [`Coherence::set_contact_details`]. A scene that needs only the marks, the
+    /// touching state and the groups pays less per contact pair with them off.
+    /// Support queries need the details (the contact normals).
+    pub fn set_contact_details(&mut self, on: bool) {
+        self.coherence.set_contact_details(on);
     }
 
     /// Asks for a full scan of bodies and colliders at the next update. Needed only

@@ -6,12 +6,12 @@
 //! determination. Rapier's step does all three internally, and already has the
 //! paper's "relative transform unchanged → skip the narrow phase" test (contact
 //! recycling). So this pass runs *after* Rapier's step, reading the narrow phase:
-//! 1. node upkeep ([`nodes`]): bodies awake now or at the last update are refreshed;
+//! 1. node upkeep (`nodes.rs`): bodies awake now or at the last update are refreshed;
 //!    a full scan only when the body or collider count changed;
-//! 2. edge insertion and marks ([`pairs`], Figs. 3 and 5): each collider pair of a
+//! 2. edge insertion and marks (`pairs.rs`, Figs. 3 and 5): each collider pair of a
 //!    refreshed body is aggregated into the physical edge of its two bodies, whose
 //!    proximity and touching states are shifted to `e_old` first;
-//! 3. vanishing and obsolete removal ([`obsolete`], §3.1): an edge of a refreshed body
+//! 3. vanishing and obsolete removal (`obsolete.rs`, §3.1): an edge of a refreshed body
 //!    that no collider pair reached has vanished; one that vanished at an earlier
 //!    update is removed once its AABBs are far apart.
 //!
@@ -31,7 +31,8 @@ pub(crate) mod pairs;
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
 
-use rapier3d::prelude::RigidBodyHandle;
+use rapier3d::geometry::ContactPair;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::Groups;
@@ -66,6 +67,49 @@ pub struct Coherence {
     counters: WalkCounters,
     /// Scratch: edges found dead this step.
     dead: Vec<EdgeId>,
+    /// Collider slot → the node owning it (its parent body's, or its own), so that a
+    /// collider pair costs two array reads instead of Rapier collider and body lookups.
+    owners: Vec<Owner>,
+    /// Rapier pair slot → the edge it fed at the last full scan (see `scan_all_pairs`).
+    pair_slots: Vec<PairSlot>,
+    /// Maintain the per-edge contact details (see [`Coherence::set_contact_details`]).
+    skip_details: bool,
+    scan: ScanPolicy,
+}
+
+/// How the pairs of the refreshed bodies are found (both give the same graph; the
+/// choice is about speed). Exposed for tests and benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ScanPolicy {
+    /// Scan Rapier's whole pair array when at least half of the moving bodies were
+    /// refreshed, walk the refreshed bodies' pairs otherwise.
+    #[default]
+    Auto,
+    /// Always scan the whole pair array.
+    Scan,
+    /// Always walk the refreshed bodies' pairs.
+    Walk,
+}
+
+/// What a slot of Rapier's contact-pair array held at the last scan.
+#[derive(Clone, Copy, Debug)]
+struct PairSlot {
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+    edge: EdgeId,
+    /// `collider1`'s owner is the edge's B node.
+    flip: bool,
+}
+
+/// A cached collider owner, valid for one collider generation.
+#[derive(Clone, Copy, Debug, Default)]
+enum Owner {
+    #[default]
+    Unknown,
+    /// The collider (of this generation) has no node: a sensor.
+    Nobody(u32),
+    /// The collider (of this generation) belongs to this node.
+    Node(u32, NodeId),
 }
 
 impl Coherence {
@@ -73,7 +117,8 @@ impl Coherence {
     pub fn step(&self) -> u64 {
         self.step
     }
-    /// Edges refreshed in the last step: their marks are valid. Sorted by slot.
+    /// Edges refreshed in the last step: their marks are valid. In a deterministic
+    /// order: Rapier's pair order, then the edges found vanished.
     pub fn touched_edges(&self) -> &[EdgeId] {
         &self.touched
     }
@@ -98,6 +143,21 @@ impl Coherence {
     pub fn counters(&self) -> WalkCounters {
         self.counters
     }
+    /// Whether the per-edge contact details (relative pose and its change flag, closest
+    /// distance, deepest penetration, normal impulse, deepest normal) are maintained.
+    pub fn contact_details(&self) -> bool {
+        !self.skip_details
+    }
+    /// Turns the per-edge contact details on (the default) or off. Off, each collider
+    /// pair costs only its proximity, touching state and contact count; the details
+    /// keep their last values and support queries see no normals.
+    pub fn set_contact_details(&mut self, on: bool) {
+        self.skip_details = !on;
+    }
+    /// Chooses how pairs are found (see [`ScanPolicy`]).
+    pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
+        self.scan = policy;
+    }
     /// Asks for a full scan of bodies and colliders at the next update (after changing
     /// a sleeping or fixed body in place, e.g. its type, which Rapier does not report).
     pub fn request_full_sync(&mut self) {
@@ -121,7 +181,7 @@ impl Coherence {
         }
         let step = self.step;
         for mut e in graph.remove_node(id) {
-            e.cache.begin_update();
+            e.cache.begin_update(true);
             e.updated_step = step;
             self.removed_edges.push(e);
         }
@@ -193,10 +253,28 @@ impl Coherence {
             groups.disturb(graph, id);
         }
 
-        // 2. Edge insertion and marks.
+        // 2. Edge insertion and marks. When at least half of the moving bodies were
+        // refreshed, one sequential pass over Rapier's pair array beats walking each
+        // body's adjacency (which reaches every pair twice); otherwise the walk keeps
+        // the cost proportional to the refreshed bodies.
         let walk = std::mem::take(&mut self.walk);
+        let moving = graph.count_of_kind(NodeKind::Rigid)
+            + graph.count_of_kind(NodeKind::Link)
+            + graph.count_of_kind(NodeKind::Scripted);
+        let scan = match self.scan {
+            ScanPolicy::Auto => 2 * walk.len() >= moving,
+            ScanPolicy::Scan => true,
+            ScanPolicy::Walk => false,
+        };
+        if scan {
+            self.scan_all_pairs(graph, view);
+            self.counters.bodies = walk.len();
+        } else {
+            for &me in &walk {
+                self.walk_pairs(graph, view, me);
+            }
+        }
         for &me in &walk {
-            self.walk_pairs(graph, view, me);
             groups.disturb(graph, me);
         }
 
@@ -216,9 +294,10 @@ impl Coherence {
             }
         }
         self.walk = walk;
-        self.touched.sort_unstable();
-        self.touched.dedup();
-        self.touched.retain(|&e| graph.edge(e).is_some());
+        // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
+        // removed in the same step, so the list needs no sorting or filtering: its
+        // order is Rapier's pair order, then the vanished edges, which is deterministic.
+        debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
     }
 
     fn mark_refreshed(
@@ -244,6 +323,33 @@ impl Coherence {
         }
     }
 
+    /// The node owning a collider, from the owner table (slow path: Rapier lookups,
+    /// creating the node if it is missing). `None` for sensors.
+    #[inline]
+    fn owner_of(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        collider: ColliderHandle,
+    ) -> Option<NodeId> {
+        let (i, gen) = collider.into_raw_parts();
+        match self.owners.get(i as usize) {
+            Some(Owner::Node(g, n)) if *g == gen && graph.contains_node(*n) => return Some(*n),
+            Some(Owner::Nobody(g)) if *g == gen => return None,
+            _ => {}
+        }
+        let owner = nodes::ensure_collider_owner(graph, view, collider, &mut self.created);
+        if self.owners.len() <= i as usize {
+            self.owners.resize(i as usize + 1, Owner::Unknown);
+        }
+        self.owners[i as usize] = match owner {
+            Some(n) => Owner::Node(gen, n),
+            None if view.colliders.contains(collider) => Owner::Nobody(gen),
+            None => Owner::Unknown,
+        };
+        owner
+    }
+
     /// Aggregates the collider pairs of one refreshed body into its edges.
     fn walk_pairs(&mut self, graph: &mut ContactGraph, view: &WorldView, me: NodeId) {
         let step = self.step;
@@ -253,57 +359,125 @@ impl Coherence {
         let Some(rb) = view.bodies.get(h) else { return };
         self.counters.bodies += 1;
         for &ch in rb.colliders() {
-            let Some(c) = view.colliders.get(ch) else {
-                continue;
-            };
-            if c.is_sensor() {
-                continue;
-            }
             for pair in view.narrow_phase.contact_pairs_with(ch) {
                 self.counters.collider_pairs += 1;
                 let oc = pairs::other_collider(pair, ch);
-                let Some(other) = nodes::ensure_collider_owner(graph, view, oc, &mut self.created)
-                else {
+                let Some(other) = self.owner_of(graph, view, oc) else {
                     continue;
                 };
-                if other == me {
-                    continue;
-                }
                 // Both sides refreshed: aggregate from the smaller index only.
-                if graph.node(other).is_some_and(|n| n.seen_step == step)
-                    && other.index() < me.index()
+                if other.index() < me.index()
+                    && graph.node(other).is_some_and(|n| n.seen_step == step)
                 {
                     continue;
                 }
-                let Some(eid) = pairs::physical_edge_for(graph, me, other, step) else {
-                    continue;
-                };
-                let (a, b) = match graph.edge(eid) {
-                    Some(e) => (e.a, e.b),
-                    None => continue,
-                };
-                let first_visit = graph.edge(eid).is_some_and(|e| e.walk_stamp != step);
-                if first_visit {
-                    let pa = pose_of(graph, view, a);
-                    let pb = pose_of(graph, view, b);
-                    let Some(e) = graph.edge_mut(eid) else {
+                self.process_pair(graph, view, pair);
+            }
+        }
+    }
+
+    /// Aggregates every Rapier pair with a refreshed body into its edge, in one pass
+    /// over the narrow phase's pair array.
+    ///
+    /// Rapier keeps its pairs in a vector (new pairs pushed, removed ones
+    /// swap-removed), so a pair mostly stays in its slot from step to step. Each slot
+    /// remembers the collider pair and edge it fed last time; when the colliders match,
+    /// the edge is found without owner or hash lookups. A mismatch (a slot that changed
+    /// hands) falls back to the lookups and refreshes the slot.
+    fn scan_all_pairs(&mut self, graph: &mut ContactGraph, view: &WorldView) {
+        let step = self.step;
+        let mut slots = std::mem::take(&mut self.pair_slots);
+        let mut len = 0;
+        for (i, pair) in view.narrow_phase.contact_pairs().enumerate() {
+            len = i + 1;
+            self.counters.collider_pairs += 1;
+            let cached = slots.get(i).filter(|s| {
+                s.c1 == pair.collider1 && s.c2 == pair.collider2 && graph.edge(s.edge).is_some()
+            });
+            let (eid, flip) = match cached {
+                Some(s) => (s.edge, s.flip),
+                None => {
+                    let Some((eid, flip)) = self.edge_of_pair(graph, view, pair) else {
                         continue;
                     };
-                    pairs::begin_edge_update(&mut e.cache, pa.as_ref(), pb.as_ref());
-                    e.walk_stamp = step;
-                    e.updated_step = step;
-                    self.touched.push(eid);
-                    self.counters.edges += 1;
+                    let slot = PairSlot {
+                        c1: pair.collider1,
+                        c2: pair.collider2,
+                        edge: eid,
+                        flip,
+                    };
+                    if i < slots.len() {
+                        slots[i] = slot;
+                    } else {
+                        slots.push(slot);
+                    }
+                    (eid, flip)
                 }
-                // Rapier's normal points from collider1 to collider2; flip if collider1
-                // belongs to the edge's B node.
-                let c1_owner_is_me = pair.collider1 == ch;
-                let me_is_a = a == me;
-                let flip = c1_owner_is_me != me_is_a;
-                if let Some(e) = graph.edge_mut(eid) {
-                    pairs::accumulate_pair(&mut e.cache, pair, flip);
-                }
+            };
+            let Some(e) = graph.edge(eid) else { continue };
+            let (a, b) = (e.a, e.b);
+            let refreshed = |n| graph.node(n).is_some_and(|n| n.seen_step == step);
+            if refreshed(a) || refreshed(b) {
+                self.feed_edge(graph, view, eid, pair, flip);
             }
+        }
+        slots.truncate(len);
+        self.pair_slots = slots;
+    }
+
+    /// The edge of a collider pair and whether `collider1` belongs to its B node;
+    /// `None` if the pair makes no edge (sensor, same body, excluded by Table 2).
+    fn edge_of_pair(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        pair: &ContactPair,
+    ) -> Option<(EdgeId, bool)> {
+        let n1 = self.owner_of(graph, view, pair.collider1)?;
+        let n2 = self.owner_of(graph, view, pair.collider2)?;
+        if n1 == n2 {
+            return None;
+        }
+        let eid = pairs::physical_edge_for(graph, n1, n2, self.step)?;
+        Some((eid, graph.edge(eid)?.b == n1))
+    }
+
+    /// Adds one collider pair to the edge of its two owners (creating the edge).
+    fn process_pair(&mut self, graph: &mut ContactGraph, view: &WorldView, pair: &ContactPair) {
+        if let Some((eid, flip)) = self.edge_of_pair(graph, view, pair) {
+            self.feed_edge(graph, view, eid, pair, flip);
+        }
+    }
+
+    /// Adds a collider pair to an edge, shifting the edge's state to `e_old` on the
+    /// first pair of the step. `flip`: Rapier's normal points from `collider1` to
+    /// `collider2`, the edge's from A to B; flip when `collider1` belongs to B.
+    fn feed_edge(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        eid: EdgeId,
+        pair: &ContactPair,
+        flip: bool,
+    ) {
+        let step = self.step;
+        let details = !self.skip_details;
+        let Some(e) = graph.edge(eid) else { return };
+        if e.walk_stamp != step {
+            let (pa, pb) = if details {
+                (pose_of(graph, view, e.a), pose_of(graph, view, e.b))
+            } else {
+                (None, None)
+            };
+            let Some(e) = graph.edge_mut(eid) else { return };
+            pairs::begin_edge_update(&mut e.cache, pa.as_ref(), pb.as_ref(), details);
+            e.walk_stamp = step;
+            e.updated_step = step;
+            self.touched.push(eid);
+            self.counters.edges += 1;
+        }
+        if let Some(e) = graph.edge_mut(eid) {
+            pairs::accumulate_pair(&mut e.cache, pair, flip, details);
         }
     }
 
@@ -324,7 +498,7 @@ impl Coherence {
         e.walk_stamp = step;
         let was_proximate = e.cache.proximity;
         let was_touching = e.cache.touching;
-        e.cache.begin_update();
+        e.cache.begin_update(!self.skip_details);
         e.updated_step = step;
         let (a, b) = (e.a, e.b);
         if was_proximate {

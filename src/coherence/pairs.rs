@@ -54,8 +54,12 @@ pub(crate) fn begin_edge_update(
     cache: &mut ContactCache,
     pose_a: Option<&Pose>,
     pose_b: Option<&Pose>,
+    details: bool,
 ) {
-    cache.begin_update();
+    cache.begin_update(details);
+    if !details {
+        return;
+    }
     match (pose_a, pose_b) {
         (Some(pa), Some(pb)) if pose_is_finite(pa) && pose_is_finite(pb) => {
             let rel = pa.inv_mul(pb);
@@ -68,17 +72,37 @@ pub(crate) fn begin_edge_update(
 
 /// Adds one Rapier collider pair to an edge's aggregates. `flip` is true when the
 /// pair's `collider1` belongs to the edge's *B* node (Rapier's normals point from
-/// collider 1 to collider 2; the edge's from *A* to *B*).
-pub(crate) fn accumulate_pair(cache: &mut ContactCache, pair: &ContactPair, flip: bool) {
+/// collider 1 to collider 2; the edge's from *A* to *B*). Without `details`, only
+/// proximity, touching and the contact count are gathered.
+pub(crate) fn accumulate_pair(
+    cache: &mut ContactCache,
+    pair: &ContactPair,
+    flip: bool,
+    details: bool,
+) {
     cache.collider_pairs += 1;
     cache.proximity = true;
+    if !details {
+        let mut count = 0;
+        for m in pair.solver_manifolds() {
+            count += m.data.solver_contacts.len() as u32;
+        }
+        cache.contact_count += count;
+        cache.touching |= count > 0 || pair.has_any_active_contact();
+        return;
+    }
     let mut deepest = cache.min_distance;
     for m in pair.manifolds() {
+        let n = if flip { -m.data.normal } else { m.data.normal };
         for p in &m.points {
-            if p.dist.is_finite() && p.dist < deepest {
+            // Ties (a body in a corner touching two walls equally deep) are broken by
+            // the normal itself, so the result does not depend on the order in which
+            // the collider pairs are visited.
+            let deeper =
+                p.dist < deepest || (p.dist == deepest && normal_order(n, cache.normal).is_gt());
+            if p.dist.is_finite() && deeper {
                 deepest = p.dist;
-                let n = m.data.normal;
-                cache.normal = if flip { -n } else { n };
+                cache.normal = n;
             }
         }
     }
@@ -99,6 +123,13 @@ pub(crate) fn accumulate_pair(cache: &mut ContactCache, pair: &ContactPair, flip
     if impulse.is_finite() {
         cache.normal_impulse += impulse;
     }
+}
+
+/// A total order on normals, for tie-breaking.
+fn normal_order(a: rapier3d::math::Vector, b: rapier3d::math::Vector) -> std::cmp::Ordering {
+    a.x.total_cmp(&b.x)
+        .then(a.y.total_cmp(&b.y))
+        .then(a.z.total_cmp(&b.z))
 }
 
 /// Per-step counters of the pair walk.
@@ -128,7 +159,7 @@ pub(crate) fn physical_edge_for(
     (graph.edge(id)?.kind() == EdgeKind::Physical).then_some(id)
 }
 
-/// Which collider of a pair is "mine".
+/// The collider of a pair that is not `mine`.
 pub(crate) fn other_collider(pair: &ContactPair, mine: ColliderHandle) -> ColliderHandle {
     if pair.collider1 == mine {
         pair.collider2

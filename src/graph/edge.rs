@@ -114,18 +114,21 @@ impl ContactCache {
     }
 
     /// Shifts the current state into `*_old` and clears the per-update aggregates,
-    /// keeping the relative pose for the change test.
-    pub(crate) fn begin_update(&mut self) {
+    /// keeping the relative pose for the change test. Without `details` the detail
+    /// fields keep their values (they are not maintained).
+    pub(crate) fn begin_update(&mut self, details: bool) {
         self.proximity_old = self.proximity;
         self.touching_old = self.touching;
         self.proximity = false;
         self.touching = false;
-        self.min_distance = Real::INFINITY;
         self.contact_count = 0;
-        self.max_penetration = 0.0;
-        self.normal_impulse = 0.0;
-        self.normal = Vector::ZERO;
         self.collider_pairs = 0;
+        if details {
+            self.min_distance = Real::INFINITY;
+            self.max_penetration = 0.0;
+            self.normal_impulse = 0.0;
+            self.normal = Vector::ZERO;
+        }
     }
 }
 
@@ -255,12 +258,12 @@ mod tests {
         let a = NodeId::from_raw_parts(0, 0);
         let b = NodeId::from_raw_parts(1, 0);
         let mut e = Edge::new(a, b, EdgeKind::Physical, 3);
-        e.cache.begin_update();
+        e.cache.begin_update(true);
         e.cache.proximity = true;
         assert_eq!(e.proximity_mark(3), Some(Transition::New));
         assert_eq!(e.proximity_mark(4), None);
         e.updated_step = 4;
-        e.cache.begin_update();
+        e.cache.begin_update(true);
         assert_eq!(e.proximity_mark(4), Some(Transition::Vanished));
         assert_eq!(e.touching_mark(4), None);
         assert_eq!(e.other(a), Some(b));

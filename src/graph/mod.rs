@@ -265,7 +265,7 @@ impl ContactGraph {
     pub fn try_is_supported(&self, n: NodeId, gravity: Vector, min_cos: Real) -> Result<bool> {
         self.try_node(n)?;
         let g = gravity.length();
-        if !(g > 0.0) {
+        if !g.is_finite() || g <= 0.0 {
             return Ok(false);
         }
         let up = -gravity / g;

@@ -235,8 +235,11 @@ impl Groups {
                 if node.awake {
                     group.asleep = false;
                 }
-                let incident = node.edges.clone();
-                for eid in incident {
+                for k in 0..node.edges.len() {
+                    let Some(eid) = graph.node(n).and_then(|node| node.edges.get(k).copied())
+                    else {
+                        break;
+                    };
                     let Some(e) = graph.edge(eid) else { continue };
                     if !traversable(e.kind, e.cache.touching) || e.colour_stamp == stamp {
                         continue;
