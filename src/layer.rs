@@ -22,12 +22,15 @@
 //! layer.validate(&world).unwrap();
 //! ```
 
+use crossbeam_channel::Receiver;
 use rapier3d::prelude::{ColliderHandle, PhysicsWorld, RigidBodyHandle};
 
-use crate::coherence::{Coherence, RemovedNode, WalkCounters};
-use crate::graph::{ContactGraph, Edge, EdgeId, NodeId, NodeKind};
+use crate::coherence::{Coherence, RemovedNode, Screen, WalkCounters};
+use crate::events::{Event, EventBus, Filter, SubscriptionId};
+use crate::graph::{Category, ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::{GroupStats, Groups};
-use crate::{Result, WorldView};
+use crate::logic::{Logic, Rule, RuleHooks, WorldMut};
+use crate::{Error, Result, WorldView};
 
 /// Statistics of one step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -44,35 +47,80 @@ pub struct StepStats {
     pub walk: WalkCounters,
     /// Group statistics.
     pub groups: GroupStats,
+    /// Events generated in the step (before filtering per subscription).
+    pub events: usize,
 }
 
 /// The contact graph layer.
 ///
-/// Observe-only: it sets no hook or event flag on any collider and passes Rapier no
-/// hooks, so attaching it changes nothing in Rapier's results (tested bit for bit).
-#[derive(Clone, Debug, Default)]
+/// Observe-only unless asked: without rules it sets no hook flag on any collider, and
+/// the hooks it hands Rapier are then never called, so attaching it changes nothing
+/// in Rapier's results (tested bit for bit). Triggers widen the collision types of
+/// sensor colliders only (sensors push nothing; see [`Self::set_trigger_widening`]).
+#[derive(Debug)]
 pub struct ContactLayer {
     graph: ContactGraph,
     groups: Groups,
     coherence: Coherence,
+    logic: Logic,
+    bus: EventBus,
     stats: StepStats,
     /// The gravity of the last analysed world.
     gravity: rapier3d::math::Vector,
+    colliders_seen: usize,
+    ticks: Vec<(NodeId, u64)>,
+    events: Vec<Event>,
+}
+
+impl Default for ContactLayer {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl ContactLayer {
     /// A layer with an empty graph; the first update fills it from the world.
     pub fn new() -> Self {
-        Self::default()
+        Self {
+            graph: ContactGraph::default(),
+            groups: Groups::default(),
+            coherence: Coherence::default(),
+            logic: Logic::new(),
+            bus: EventBus::default(),
+            stats: StepStats::default(),
+            gravity: rapier3d::math::Vector::ZERO,
+            colliders_seen: 0,
+            ticks: Vec::new(),
+            events: Vec::new(),
+        }
     }
 
-    /// Runs one Rapier step on `world`, then the analysis ([`Self::analyze`]).
+    /// Runs the pre-step ([`Self::pre_step`]), one Rapier step with the layer's hooks,
+    /// then the analysis ([`Self::analyze`]).
     ///
     /// Cost: Rapier's step, plus the analysis: O(pairs of awake bodies + members of the
-    /// rebuilt groups), plus O(bodies + colliders) on a step where their count changed.
+    /// rebuilt groups + events), plus O(bodies + colliders) on a step where their count
+    /// changed.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
-        world.step();
+        self.pre_step(WorldMut::from(&mut *world));
+        world.step_with_events(&self.logic.hooks, &());
         self.analyze(WorldView::from(&*world))
+    }
+
+    /// Applies the queued logical changes to the world (hook flags of rule members,
+    /// passive bodies, trigger collision types). [`Self::step`] calls it; users who
+    /// step Rapier themselves call it before each step and pass [`Self::hooks`] to
+    /// Rapier. O(1) when nothing is queued.
+    pub fn pre_step(&mut self, world: WorldMut) {
+        let colliders_changed = world.colliders.len() != self.colliders_seen;
+        self.colliders_seen = world.colliders.len();
+        self.logic.pre_step(&self.graph, world, colliders_changed);
+    }
+
+    /// The physics hooks to give Rapier when stepping it yourself. They act only on
+    /// colliders flagged for rules.
+    pub fn hooks(&self) -> &RuleHooks {
+        &self.logic.hooks
     }
 
     /// The post-step analysis alone, for users who step Rapier themselves (their own
@@ -80,21 +128,324 @@ impl ContactLayer {
     /// every step.
     pub fn analyze(&mut self, view: WorldView) -> StepStats {
         self.gravity = view.gravity;
+        let force = std::mem::take(&mut self.logic.force);
+        let screen = Screen {
+            rules: self.logic.hooks.table(),
+            force: &force,
+        };
         self.coherence
-            .update(&mut self.graph, &mut self.groups, &view);
-        self.groups
-            .rebuild(&mut self.graph, self.coherence.step(), &|g, n| {
-                g.node(n).is_some_and(|n| n.kind().is_insulator())
-            });
+            .update(&mut self.graph, &mut self.groups, &view, &screen);
+        let step = self.coherence.step();
+
+        // Containers follow the joints; bodies whose structure changed are regrouped
+        // (and their kind refreshed: multibody links are `Link`s).
+        let mut created = Vec::new();
+        let changed = self
+            .logic
+            .containers
+            .sync(&mut self.graph, &view, step, &mut created, false);
+        for n in changed.into_iter().chain(created) {
+            if let Some(h) = self.graph.body_of(n) {
+                let mut sink = Vec::new();
+                crate::coherence::nodes::ensure_body_node(&mut self.graph, &view, h, &mut sink);
+            }
+            self.groups.disturb(&mut self.graph, n);
+        }
+
+        self.groups.rebuild(&mut self.graph, step, &|g, n| {
+            g.node(n).is_some_and(|n| n.kind().is_insulator())
+        });
+
+        self.ticks.clear();
+        if !self.logic.timers.is_empty() {
+            self.logic.timers.advance(view.dt, &mut self.ticks);
+        }
+
+        self.events.clear();
+        if !self.bus.is_empty() {
+            let marks = crate::events::collect::StepMarks {
+                step,
+                graph: &self.graph,
+                removed_edges: self.coherence.removed_edges(),
+                touched: self.coherence.touched_edges(),
+                sleep_changes: self.coherence.sleep_changes(),
+                ticks: &self.ticks,
+                removed_nodes: self.coherence.removed_nodes(),
+            };
+            crate::events::collect::collect(&marks, self.bus.wanted(), &mut self.events);
+            self.bus.dispatch(&self.events, &self.graph);
+        }
+
         self.stats = StepStats {
-            step: self.coherence.step(),
+            step,
             nodes: self.graph.node_count(),
             edges: self.graph.edge_count(),
             awake_bodies: view.islands.num_active_bodies(),
             walk: self.coherence.counters(),
             groups: self.groups.stats(),
+            events: self.events.len(),
         };
         self.stats
+    }
+
+    // ── Events ─────────────────────────────────────────────────────────
+
+    /// Subscribes to the events matching `filter` on an unbounded channel (see the
+    /// contract in [`crate::events`]). O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::{events::{EventKind, Filter, KindSet}, ContactLayer};
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.5, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// let touches = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])));
+    /// for _ in 0..100 {
+    ///     layer.step(&mut world);
+    /// }
+    /// assert_eq!(touches.try_iter().count(), 1, "the ball landed once");
+    /// ```
+    pub fn subscribe(&mut self, filter: Filter) -> Receiver<Event> {
+        self.bus.subscribe(filter).1
+    }
+
+    /// Subscribes on a channel of at most `capacity` events: when it is full, the newest
+    /// events are dropped and counted ([`EventBus::dropped`]); the step never blocks.
+    /// `capacity` 0 is an error. O(1).
+    pub fn subscribe_bounded(
+        &mut self,
+        filter: Filter,
+        capacity: usize,
+    ) -> Result<Receiver<Event>> {
+        Ok(self.bus.subscribe_bounded(filter, capacity)?.1)
+    }
+
+    /// Subscribes and returns the subscription's id too (to unsubscribe or read its
+    /// drop count).
+    pub fn subscribe_with_id(&mut self, filter: Filter) -> (SubscriptionId, Receiver<Event>) {
+        self.bus.subscribe(filter)
+    }
+
+    /// Removes a subscription (dropping the receiver does it too, lazily).
+    pub fn unsubscribe(&mut self, id: SubscriptionId) -> bool {
+        self.bus.unsubscribe(id)
+    }
+
+    /// The subscriptions and their counters.
+    pub fn event_bus(&self) -> &EventBus {
+        &self.bus
+    }
+
+    /// The events generated in the last step (of the kinds some subscription wants).
+    pub fn last_events(&self) -> &[Event] {
+        &self.events
+    }
+
+    // ── Rules ──────────────────────────────────────────────────────────
+
+    fn check_rule_member(&self, n: NodeId) -> Result<()> {
+        let node = self.graph.try_node(n)?;
+        if node.kind().category() != Category::Physical && node.kind() != NodeKind::Trigger {
+            return Err(Error::WrongKind {
+                node: n,
+                expected: "a body or a trigger (rules apply to those)",
+            });
+        }
+        Ok(())
+    }
+
+    /// Adds a rule: a `Rule` node with a logical edge to each body it names. Pairs it
+    /// ignores stop interacting at the next step (their bodies are woken so that resting
+    /// pairs are released too), and their edges end. Every named node must be live and
+    /// a body or trigger, else an error and nothing changes. O(members).
+    pub fn add_rule(&mut self, rule: Rule) -> Result<NodeId> {
+        let members = rule.members();
+        if members.is_empty() {
+            return Err(Error::InvalidParameter {
+                name: "rule",
+                reason: "names no node".into(),
+            });
+        }
+        for &m in &members {
+            self.check_rule_member(m)?;
+        }
+        let serial = self.logic.serial();
+        let node = self
+            .graph
+            .add_node(NodeKind::Rule, NodeSource::Layer(serial));
+        for &m in &members {
+            self.graph
+                .ensure_edge(node, m, EdgeKind::Logical, self.coherence.step());
+        }
+        self.logic.rules.insert(node, rule);
+        self.logic.rules_changed(&members, &self.graph);
+        Ok(node)
+    }
+
+    /// Removes a rule; the pairs it ignored interact again from the next step.
+    pub fn remove_rule(&mut self, rule: NodeId) -> Result<Rule> {
+        let kind = self.graph.try_node(rule)?.kind();
+        if kind != NodeKind::Rule {
+            return Err(Error::WrongKind {
+                node: rule,
+                expected: "a rule",
+            });
+        }
+        let r = self
+            .logic
+            .rules
+            .remove(&rule)
+            .ok_or(Error::StaleNode(rule))?;
+        self.graph.remove_node(rule);
+        let members = r.members();
+        self.logic.rules_changed(&members, &self.graph);
+        Ok(r)
+    }
+
+    /// The rule of a rule node.
+    pub fn rule(&self, node: NodeId) -> Option<&Rule> {
+        self.logic.rules.get(&node)
+    }
+
+    /// The number of colliders carrying hook flags set by the layer (0 without rules).
+    pub fn flagged_colliders(&self) -> usize {
+        self.logic.flagged_colliders()
+    }
+
+    // ── Timers ─────────────────────────────────────────────────────────
+
+    /// Adds a timer of `period` simulated seconds; it ticks `TimerTick` events (tick 1
+    /// one period after now). A period that is not finite and positive is an error.
+    pub fn add_timer(&mut self, period: f64) -> Result<NodeId> {
+        if !period.is_finite() || period <= 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "period",
+                reason: format!("must be finite and positive, got {period}"),
+            });
+        }
+        let serial = self.logic.serial();
+        let node = self
+            .graph
+            .add_node(NodeKind::Timer, NodeSource::Layer(serial));
+        self.logic.timers.add(node, period);
+        Ok(node)
+    }
+
+    /// Removes a timer.
+    pub fn remove_timer(&mut self, timer: NodeId) -> Result<()> {
+        let kind = self.graph.try_node(timer)?.kind();
+        if kind != NodeKind::Timer || !self.logic.timers.remove(timer) {
+            return Err(Error::WrongKind {
+                node: timer,
+                expected: "a timer",
+            });
+        }
+        self.graph.remove_node(timer);
+        Ok(())
+    }
+
+    /// The ticks a timer has fired so far.
+    pub fn timer_ticks(&self, timer: NodeId) -> Result<u64> {
+        self.graph.try_node(timer)?;
+        self.logic.timers.ticks(timer).ok_or(Error::WrongKind {
+            node: timer,
+            expected: "a timer",
+        })
+    }
+
+    /// The period of a timer.
+    pub fn timer_period(&self, timer: NodeId) -> Result<f64> {
+        self.graph.try_node(timer)?;
+        self.logic.timers.period(timer).ok_or(Error::WrongKind {
+            node: timer,
+            expected: "a timer",
+        })
+    }
+
+    /// Simulated seconds analysed while a timer existed (the timers' clock).
+    pub fn simulated_time(&self) -> f64 {
+        self.logic.timers.time()
+    }
+
+    // ── Passive bodies ─────────────────────────────────────────────────
+
+    /// Makes a body passive (or active again) without deallocating it (paper §3.2): it
+    /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
+    /// flag is cleared in the pre-step, its edges end at the next analysis, and no
+    /// event names it while passive. O(1).
+    pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
+        let node = self.graph.try_node_of_body(body)?;
+        self.logic.queue_passive(body, node, passive);
+        Ok(())
+    }
+
+    // ── Containers ─────────────────────────────────────────────────────
+
+    /// Declares bodies rigidly attached by the user (not by Rapier joints) as a
+    /// `Composite` node with structural edges to them: contact groups then treat them as
+    /// one. Members must be live dynamic bodies (`Rigid`), else an error. O(members).
+    pub fn declare_composite(&mut self, bodies: &[NodeId]) -> Result<NodeId> {
+        if bodies.is_empty() {
+            return Err(Error::InvalidParameter {
+                name: "bodies",
+                reason: "a composite needs at least one body".into(),
+            });
+        }
+        for &b in bodies {
+            let kind = self.graph.try_node(b)?.kind();
+            if kind != NodeKind::Rigid {
+                return Err(Error::WrongKind {
+                    node: b,
+                    expected: "a dynamic rigid body",
+                });
+            }
+        }
+        let serial = self.logic.serial();
+        let node = self
+            .graph
+            .add_node(NodeKind::Composite, NodeSource::Layer(serial));
+        for &b in bodies {
+            self.graph
+                .ensure_edge(node, b, EdgeKind::Structural, self.coherence.step());
+            self.groups.disturb(&mut self.graph, b);
+        }
+        self.logic.declared.insert(node, bodies.to_vec());
+        Ok(node)
+    }
+
+    /// Removes a declared composite (not one derived from joints).
+    pub fn remove_composite(&mut self, composite: NodeId) -> Result<()> {
+        self.graph.try_node(composite)?;
+        let members = self
+            .logic
+            .declared
+            .remove(&composite)
+            .ok_or(Error::WrongKind {
+                node: composite,
+                expected: "a declared composite",
+            })?;
+        if let Some(g) = self.graph.node(composite).and_then(|n| n.group()) {
+            self.groups.dissolve(&mut self.graph, g);
+        }
+        self.graph.remove_node(composite);
+        for b in members {
+            self.groups.disturb(&mut self.graph, b);
+        }
+        Ok(())
+    }
+
+    /// Widens the collision types of sensor colliders to all body-type pairs (the
+    /// default, so triggers on fixed, kinematic and dynamic bodies see bodies of every
+    /// type), or leaves sensors as the user built them (`false`; set before the first
+    /// step).
+    pub fn set_trigger_widening(&mut self, on: bool) {
+        self.logic.widen_sensors = on;
     }
 
     /// The contact graph.
@@ -205,6 +556,11 @@ impl ContactLayer {
     /// proximate edge without its Rapier pair. O(nodes + edges + Rapier pairs).
     pub fn validate(&self, world: &PhysicsWorld) -> Result<()> {
         crate::validate::validate_layer(self, &WorldView::from(world))
+    }
+
+    /// The rules in force (for validation).
+    pub(crate) fn rule_table(&self) -> &crate::logic::RuleTable {
+        self.logic.hooks.table()
     }
 
     /// [`Self::validate`] for a world given by its parts.

@@ -33,21 +33,25 @@
 
 pub mod coherence;
 mod error;
+pub mod events;
 pub mod export;
 pub mod graph;
 pub mod groups;
 mod layer;
+pub mod logic;
 pub mod scenes;
 mod validate;
 mod world;
 
 pub use error::{Error, Result};
+pub use events::{Event, EventKind, Filter, KindSet};
 pub use graph::{
     Category, ContactCache, ContactGraph, Edge, EdgeId, EdgeKind, Node, NodeId, NodeKind,
     NodeSource, PairKey, Transition,
 };
 pub use groups::{Group, GroupId, GroupStats, Groups};
 pub use layer::{ContactLayer, StepStats};
+pub use logic::{Rule, WorldMut};
 pub use world::WorldView;
 
 /// Re-export of the Rapier version this crate is built against.

@@ -65,6 +65,11 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             None => graph.node_of_static_collider(c),
         }
     };
+    let rules = layer.rule_table();
+    let screened = |a, b| {
+        let passive = |n| graph.node(n).is_some_and(|n: &crate::Node| n.is_passive());
+        passive(a) || passive(b) || rules.ignores(a, b)
+    };
     let mut rapier_pairs: HashMap<PairKey, bool, PairBuildHasher> = HashMap::default();
     for pair in view.narrow_phase.contact_pairs() {
         let sensor = |c| view.colliders.get(c).is_none_or(|c| c.is_sensor());
@@ -78,7 +83,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             ));
         };
         let (k1, k2) = (graph.try_node(n1)?.kind(), graph.try_node(n2)?.kind());
-        if n1 == n2 || !edge_allowed(EdgeKind::Physical, k1, k2) {
+        if n1 == n2 || !edge_allowed(EdgeKind::Physical, k1, k2) || screened(n1, n2) {
             continue;
         }
         *rapier_pairs.entry(PairKey::of(n1, n2)).or_insert(false) |= pair.has_any_active_contact();
@@ -108,6 +113,57 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             && !rapier_pairs.contains_key(&PairKey::of(e.a(), e.b()))
         {
             return fail(format!("edge {eid:?} is proximate without a Rapier pair"));
+        }
+    }
+
+    // Triggers: one node per sensor, a geometric edge per intersecting trigger–body pair.
+    let mut inside: HashMap<PairKey, (), PairBuildHasher> = HashMap::default();
+    for (h, c) in view.colliders.iter() {
+        if c.is_sensor() && graph.node_of_sensor(h).is_none() {
+            return fail(format!("sensor {h:?} has no trigger node"));
+        }
+    }
+    for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs() {
+        if !intersecting {
+            continue;
+        }
+        let (s1, s2) = (
+            view.colliders.get(c1).is_some_and(|c| c.is_sensor()),
+            view.colliders.get(c2).is_some_and(|c| c.is_sensor()),
+        );
+        let (sensor, other) = match (s1, s2) {
+            (true, false) => (c1, c2),
+            (false, true) => (c2, c1),
+            _ => continue,
+        };
+        let (Some(t), Some(b)) = (graph.node_of_sensor(sensor), owner(other)) else {
+            return fail(format!(
+                "trigger pair {c1:?}–{c2:?} has a collider without node"
+            ));
+        };
+        if screened(t, b) {
+            continue;
+        }
+        inside.insert(PairKey::of(t, b), ());
+    }
+    for (eid, e) in graph.edges() {
+        if e.kind() == EdgeKind::Geometric && !inside.contains_key(&PairKey::of(e.a(), e.b())) {
+            return fail(format!(
+                "geometric edge {eid:?} without an intersecting Rapier pair"
+            ));
+        }
+    }
+    for key in inside.keys() {
+        let ok = graph
+            .edge_by_key(*key)
+            .and_then(|e| graph.edge(e))
+            .is_some_and(|e| e.kind() == EdgeKind::Geometric && e.is_proximate());
+        if !ok {
+            return fail(format!(
+                "nodes {}–{} intersect in Rapier but have no geometric edge",
+                key.a(),
+                key.b()
+            ));
         }
     }
 

@@ -75,6 +75,10 @@ pub struct Coherence {
     /// Maintain the per-edge contact details (see [`Coherence::set_contact_details`]).
     skip_details: bool,
     scan: ScanPolicy,
+    /// Triggers carried by this step's refreshed bodies.
+    triggers: Vec<NodeId>,
+    /// Bodies that fell asleep (`false`) or woke up (`true`) this step.
+    sleep_changes: Vec<(NodeId, bool)>,
 }
 
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
@@ -139,6 +143,11 @@ impl Coherence {
     pub fn refreshed_nodes(&self) -> &[NodeId] {
         &self.walk
     }
+    /// Bodies that fell asleep (`false`) or woke up (`true`) in the last step, in the
+    /// order they were refreshed.
+    pub fn sleep_changes(&self) -> &[(NodeId, bool)] {
+        &self.sleep_changes
+    }
     /// Counters of the last pair walk.
     pub fn counters(&self) -> WalkCounters {
         self.counters
@@ -188,19 +197,24 @@ impl Coherence {
         self.removed_nodes.push(record);
     }
 
-    /// Runs the analysis of one step. `step` must grow by one per call.
+    /// Runs the analysis of one step. `step` must grow by one per call. `screen`
+    /// carries the logical test of Fig. 4 (rules) and the nodes the logic layer wants
+    /// refreshed even if asleep (rule members, bodies made passive or active).
     pub(crate) fn update(
         &mut self,
         graph: &mut ContactGraph,
         groups: &mut Groups,
         view: &WorldView,
+        screen: &Screen,
     ) {
         self.step += 1;
         let step = self.step;
+        graph.clock = step;
         self.touched.clear();
         self.removed_edges.clear();
         self.removed_nodes.clear();
         self.created.clear();
+        self.sleep_changes.clear();
         self.counters = WalkCounters::default();
 
         // 1. Node upkeep.
@@ -223,7 +237,7 @@ impl Coherence {
             self.mark_refreshed(graph, view, id, h, true);
         }
         let prev = std::mem::take(&mut self.awake_prev);
-        for &id in &prev {
+        for &id in prev.iter().chain(screen.force.iter()) {
             let Some(node) = graph.node(id) else { continue };
             if node.seen_step == step {
                 continue;
@@ -232,7 +246,7 @@ impl Coherence {
                 continue;
             };
             if view.bodies.contains(h) {
-                // Fell asleep, turned fixed or was disabled since the last update.
+                // Fell asleep, turned fixed, was disabled, or the logic layer asks.
                 let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
                 self.mark_refreshed(graph, view, id, h, false);
             } else {
@@ -267,24 +281,32 @@ impl Coherence {
             ScanPolicy::Walk => false,
         };
         if scan {
-            self.scan_all_pairs(graph, view);
+            self.scan_all_pairs(graph, view, screen);
             self.counters.bodies = walk.len();
         } else {
             for &me in &walk {
-                self.walk_pairs(graph, view, me);
+                self.walk_pairs(graph, view, screen, me);
             }
+        }
+        // Trigger volumes: the intersection pairs of the refreshed bodies' colliders.
+        self.triggers.clear();
+        for &me in &walk {
+            self.walk_intersections(graph, view, screen, me);
         }
         for &me in &walk {
             groups.disturb(graph, me);
         }
 
-        // 3. Vanished edges and obsolete removal.
-        for &me in &walk {
+        // 3. Vanished edges and obsolete removal, for the refreshed bodies and the
+        // triggers they carry.
+        let triggers = std::mem::take(&mut self.triggers);
+        for &me in walk.iter().chain(triggers.iter()) {
             self.dead.clear();
             let Some(node) = graph.node(me) else { continue };
             for &eid in &node.edges {
                 let Some(e) = graph.edge(eid) else { continue };
-                if e.kind == EdgeKind::Physical && e.walk_stamp != step {
+                let dynamic = matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric);
+                if dynamic && e.walk_stamp != step {
                     self.dead.push(eid);
                 }
             }
@@ -293,6 +315,7 @@ impl Coherence {
                 self.retire(graph, groups, view, eid);
             }
         }
+        self.triggers = triggers;
         self.walk = walk;
         // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
         // removed in the same step, so the list needs no sorting or filtering: its
@@ -309,16 +332,24 @@ impl Coherence {
         awake: bool,
     ) {
         let step = self.step;
-        let finite = view.bodies.get(h).is_some_and(|rb| {
+        let rb = view.bodies.get(h);
+        let finite = rb.is_some_and(|rb| {
             rb.position().translation.is_finite() && rb.position().rotation.is_finite()
         });
+        let enabled = rb.is_some_and(|rb| rb.is_enabled());
         if let Some(n) = graph.node_mut(id) {
             if n.seen_step == step {
                 return;
             }
+            let was_awake = n.awake;
             n.seen_step = step;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
             n.non_finite = !finite;
+            n.passive = !enabled;
+            // A body created this step does not "wake up" or "fall asleep": it starts.
+            if n.kind.is_simulated() && was_awake != n.awake && n.born_step != step {
+                self.sleep_changes.push((id, n.awake));
+            }
             self.walk.push(id);
         }
     }
@@ -351,7 +382,13 @@ impl Coherence {
     }
 
     /// Aggregates the collider pairs of one refreshed body into its edges.
-    fn walk_pairs(&mut self, graph: &mut ContactGraph, view: &WorldView, me: NodeId) {
+    fn walk_pairs(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        me: NodeId,
+    ) {
         let step = self.step;
         let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) else {
             return;
@@ -371,7 +408,7 @@ impl Coherence {
                 {
                     continue;
                 }
-                self.process_pair(graph, view, pair);
+                self.process_pair(graph, view, screen, pair);
             }
         }
     }
@@ -384,7 +421,7 @@ impl Coherence {
     /// remembers the collider pair and edge it fed last time; when the colliders match,
     /// the edge is found without owner or hash lookups. A mismatch (a slot that changed
     /// hands) falls back to the lookups and refreshes the slot.
-    fn scan_all_pairs(&mut self, graph: &mut ContactGraph, view: &WorldView) {
+    fn scan_all_pairs(&mut self, graph: &mut ContactGraph, view: &WorldView, screen: &Screen) {
         let step = self.step;
         let mut slots = std::mem::take(&mut self.pair_slots);
         let mut len = 0;
@@ -417,7 +454,7 @@ impl Coherence {
             let Some(e) = graph.edge(eid) else { continue };
             let (a, b) = (e.a, e.b);
             let refreshed = |n| graph.node(n).is_some_and(|n| n.seen_step == step);
-            if refreshed(a) || refreshed(b) {
+            if (refreshed(a) || refreshed(b)) && screen.admits(graph, a, b) {
                 self.feed_edge(graph, view, eid, pair, flip);
             }
         }
@@ -443,9 +480,18 @@ impl Coherence {
     }
 
     /// Adds one collider pair to the edge of its two owners (creating the edge).
-    fn process_pair(&mut self, graph: &mut ContactGraph, view: &WorldView, pair: &ContactPair) {
+    fn process_pair(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        pair: &ContactPair,
+    ) {
         if let Some((eid, flip)) = self.edge_of_pair(graph, view, pair) {
-            self.feed_edge(graph, view, eid, pair, flip);
+            let Some(e) = graph.edge(eid) else { return };
+            if screen.admits(graph, e.a, e.b) {
+                self.feed_edge(graph, view, eid, pair, flip);
+            }
         }
     }
 
@@ -500,7 +546,22 @@ impl Coherence {
         let was_touching = e.cache.touching;
         e.cache.begin_update(!self.skip_details);
         e.updated_step = step;
-        let (a, b) = (e.a, e.b);
+        let (a, b, kind) = (e.a, e.b, e.kind);
+        let passive = |n| graph.node(n).is_some_and(|n| n.passive);
+        // Geometric edges live only while the body is inside the trigger, and a passive
+        // body has no edges: both go as soon as their end is reported.
+        if kind == EdgeKind::Geometric || passive(a) || passive(b) {
+            if let Some(e) = graph.remove_edge(eid) {
+                if was_proximate {
+                    self.removed_edges.push(e);
+                }
+            }
+            if was_touching {
+                groups.disturb(graph, a);
+                groups.disturb(graph, b);
+            }
+            return;
+        }
         if was_proximate {
             // Vanished now: report, test for obsolescence from the next update on.
             self.touched.push(eid);
@@ -518,12 +579,114 @@ impl Coherence {
             }
         }
     }
+
+    /// Adds the trigger pairs of one refreshed body's colliders: a body entering a
+    /// trigger gets a geometric edge (trigger – body) while any of its colliders
+    /// intersects the sensor. A pair is read from the sensor's side when the sensor's
+    /// body is refreshed too, else from the other side, so it is read once.
+    fn walk_intersections(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        me: NodeId,
+    ) {
+        let step = self.step;
+        let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) else {
+            return;
+        };
+        let Some(rb) = view.bodies.get(h) else { return };
+        for &ch in rb.colliders() {
+            let mine_is_sensor = view.colliders.get(ch).is_some_and(|c| c.is_sensor());
+            if mine_is_sensor {
+                if let Some(t) = nodes::ensure_trigger_node(graph, view, ch, &mut self.created) {
+                    self.triggers.push(t);
+                }
+            }
+            for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs_with(ch) {
+                let oc = if c1 == ch { c2 } else { c1 };
+                let Some(other) = view.colliders.get(oc) else {
+                    continue;
+                };
+                let (sensor, body_collider) = match (mine_is_sensor, other.is_sensor()) {
+                    (true, false) => (ch, oc),
+                    (false, true) => {
+                        // Read from the sensor's side if its body is refreshed too.
+                        let sensor_body_refreshed = other
+                            .parent()
+                            .and_then(|p| graph.node_of_body(p))
+                            .and_then(|n| graph.node(n))
+                            .is_some_and(|n| n.seen_step == step);
+                        if sensor_body_refreshed {
+                            continue;
+                        }
+                        (oc, ch)
+                    }
+                    // Trigger–trigger pairs are ignored (Table 2).
+                    _ => continue,
+                };
+                self.counters.collider_pairs += 1;
+                if !intersecting {
+                    continue;
+                }
+                let Some(t) = nodes::ensure_trigger_node(graph, view, sensor, &mut self.created)
+                else {
+                    continue;
+                };
+                let Some(b) = self.owner_of(graph, view, body_collider) else {
+                    continue;
+                };
+                if !screen.admits(graph, t, b) {
+                    continue;
+                }
+                let Some(eid) = graph.ensure_edge(t, b, EdgeKind::Geometric, step) else {
+                    continue;
+                };
+                let Some(e) = graph.edge_mut(eid) else {
+                    continue;
+                };
+                if e.kind != EdgeKind::Geometric {
+                    continue;
+                }
+                if e.walk_stamp != step {
+                    e.cache.begin_update(false);
+                    e.walk_stamp = step;
+                    e.updated_step = step;
+                    self.touched.push(eid);
+                    self.counters.edges += 1;
+                }
+                e.cache.proximity = true;
+                e.cache.collider_pairs += 1;
+            }
+        }
+    }
+}
+
+/// The logical test of Fig. 4 and the logic layer's refresh requests, handed to the
+/// analysis for one step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Screen<'a> {
+    /// The rules in force.
+    pub rules: &'a crate::logic::RuleTable,
+    /// Nodes to refresh even if asleep.
+    pub force: &'a [NodeId],
+}
+
+impl Screen<'_> {
+    /// Whether an overlap of `a` and `b` is treated: no passive end, no rule against it.
+    #[inline]
+    pub(crate) fn admits(&self, graph: &ContactGraph, a: NodeId, b: NodeId) -> bool {
+        let passive = |n| graph.node(n).is_none_or(|n| n.passive);
+        !passive(a) && !passive(b) && !self.rules.ignores(a, b)
+    }
 }
 
 fn pose_of(graph: &ContactGraph, view: &WorldView, n: NodeId) -> Option<rapier3d::math::Pose> {
     match graph.node(n)?.source {
         NodeSource::Body(h) => view.bodies.get(h).map(|rb| *rb.position()),
-        NodeSource::StaticCollider(h) => view.colliders.get(h).map(|c| *c.position()),
-        NodeSource::Layer(_) => None,
+        NodeSource::StaticCollider(h) | NodeSource::Sensor(h) => {
+            view.colliders.get(h).map(|c| *c.position())
+        }
+        NodeSource::Container(_) | NodeSource::Layer(_) => None,
     }
 }

@@ -1,4 +1,5 @@
-//! Node upkeep: bodies and static colliders become nodes; removed ones go.
+//! Node upkeep: bodies, static colliders and sensors (triggers) become nodes;
+//! removed ones go.
 //!
 //! Why not scan every body every step: a settled scene's step costs Rapier a few
 //! microseconds, and the layer must cost in proportion to what moves (DESIGN §7). So
@@ -86,12 +87,34 @@ pub(crate) fn ensure_collider_owner(
     }
 }
 
-/// Whether the Rapier object behind a node still exists.
+/// Finds or creates the trigger node of a sensor collider.
+pub(crate) fn ensure_trigger_node(
+    graph: &mut ContactGraph,
+    view: &WorldView,
+    collider: ColliderHandle,
+    created: &mut Vec<NodeId>,
+) -> Option<NodeId> {
+    if !view.colliders.get(collider)?.is_sensor() {
+        return None;
+    }
+    Some(match graph.node_of_sensor(collider) {
+        Some(id) => id,
+        None => {
+            let id = graph.add_node(NodeKind::Trigger, NodeSource::Sensor(collider));
+            created.push(id);
+            id
+        }
+    })
+}
+
+/// Whether the Rapier object behind a node still exists (containers and logical
+/// nodes are the layer's own: they exist until the layer removes them).
 pub(crate) fn source_exists(view: &WorldView, source: NodeSource) -> bool {
     match source {
         NodeSource::Body(h) => view.bodies.contains(h),
         NodeSource::StaticCollider(h) => is_static_collider_node(view, h),
-        NodeSource::Layer(_) => true,
+        NodeSource::Sensor(h) => view.colliders.get(h).is_some_and(|c| c.is_sensor()),
+        NodeSource::Container(_) | NodeSource::Layer(_) => true,
     }
 }
 
@@ -112,7 +135,9 @@ pub(crate) fn full_sync(
         ensure_body_node(graph, view, h, created);
     }
     for (h, c) in view.colliders.iter() {
-        if c.parent().is_none() && !c.is_sensor() {
+        if c.is_sensor() {
+            ensure_trigger_node(graph, view, h, created);
+        } else if c.parent().is_none() {
             ensure_collider_owner(graph, view, h, created);
         }
     }

@@ -39,8 +39,10 @@ pub(crate) fn node_aabb(view: &WorldView, source: NodeSource) -> Option<Aabb> {
             }
             acc
         }
-        NodeSource::StaticCollider(h) => view.colliders.get(h).map(|c| c.compute_aabb()),
-        NodeSource::Layer(_) => None,
+        NodeSource::StaticCollider(h) | NodeSource::Sensor(h) => {
+            view.colliders.get(h).map(|c| c.compute_aabb())
+        }
+        NodeSource::Container(_) | NodeSource::Layer(_) => None,
     }
 }
 

@@ -54,6 +54,8 @@ pub struct ContactGraph {
     /// Parentless collider index → node.
     collider_nodes: Vec<Option<NodeId>>,
     kind_counts: [usize; 9],
+    /// The step nodes created now are born in (set by the layer).
+    pub(crate) clock: u64,
 }
 
 fn kind_slot(kind: NodeKind) -> usize {
@@ -133,6 +135,17 @@ impl ContactGraph {
         let id = (*self.collider_nodes.get(i as usize)?)?;
         match self.node(id)?.source {
             NodeSource::StaticCollider(h) if h == collider => Some(id),
+            _ => None,
+        }
+    }
+
+    /// The trigger node of a sensor collider. O(1).
+    #[inline]
+    pub fn node_of_sensor(&self, collider: ColliderHandle) -> Option<NodeId> {
+        let (i, _) = collider.into_raw_parts();
+        let id = (*self.collider_nodes.get(i as usize)?)?;
+        match self.node(id)?.source {
+            NodeSource::Sensor(h) if h == collider => Some(id),
             _ => None,
         }
     }
@@ -298,14 +311,14 @@ impl ContactGraph {
     // ── Mutation (crate-internal: the layer owns the graph's consistency) ──
 
     pub(crate) fn add_node(&mut self, kind: NodeKind, source: NodeSource) -> NodeId {
-        let (i, g) = self.nodes.insert(Node::new(kind, source));
+        let (i, g) = self.nodes.insert(Node::new(kind, source, self.clock));
         let id = NodeId::from_raw_parts(i, g);
         match source {
             NodeSource::Body(h) => set_slot(&mut self.body_nodes, h.into_raw_parts().0, Some(id)),
-            NodeSource::StaticCollider(h) => {
+            NodeSource::StaticCollider(h) | NodeSource::Sensor(h) => {
                 set_slot(&mut self.collider_nodes, h.into_raw_parts().0, Some(id))
             }
-            NodeSource::Layer(_) => {}
+            NodeSource::Container(_) | NodeSource::Layer(_) => {}
         }
         self.kind_counts[kind_slot(kind)] += 1;
         id
@@ -340,13 +353,13 @@ impl ContactGraph {
                         self.body_nodes[i] = None;
                     }
                 }
-                NodeSource::StaticCollider(h) => {
+                NodeSource::StaticCollider(h) | NodeSource::Sensor(h) => {
                     let i = h.into_raw_parts().0 as usize;
                     if self.collider_nodes.get(i) == Some(&Some(id)) {
                         self.collider_nodes[i] = None;
                     }
                 }
-                NodeSource::Layer(_) => {}
+                NodeSource::Container(_) | NodeSource::Layer(_) => {}
             }
         }
         removed

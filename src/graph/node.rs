@@ -105,8 +105,12 @@ pub enum NodeSource {
     Body(RigidBodyHandle),
     /// A collider without a parent body (static geometry).
     StaticCollider(ColliderHandle),
-    /// A node that only the layer knows (containers, rules, triggers, timers); the
-    /// number is the layer's own key for it.
+    /// A sensor collider (a trigger volume).
+    Sensor(ColliderHandle),
+    /// A container derived from Rapier's joints.
+    Container(crate::logic::ContainerSource),
+    /// A node that only the layer knows (rules, timers, declared composites); the
+    /// number is the layer's serial number for it.
     Layer(u64),
 }
 
@@ -127,10 +131,14 @@ pub struct Node {
     pub(crate) visit_stamp: u64,
     /// Index of the node's group in [`crate::Groups`] (per-step data for awake groups).
     pub(crate) group: Option<crate::GroupId>,
+    /// The body is passive (disabled in Rapier): kept, but without edges.
+    pub(crate) passive: bool,
+    /// The step the node was created in.
+    pub(crate) born_step: u64,
 }
 
 impl Node {
-    pub(crate) fn new(kind: NodeKind, source: NodeSource) -> Self {
+    pub(crate) fn new(kind: NodeKind, source: NodeSource, born_step: u64) -> Self {
         Self {
             kind,
             source,
@@ -140,6 +148,8 @@ impl Node {
             seen_step: 0,
             visit_stamp: 0,
             group: None,
+            passive: false,
+            born_step,
         }
     }
 
@@ -182,6 +192,17 @@ impl Node {
     #[inline]
     pub fn is_non_finite(&self) -> bool {
         self.non_finite
+    }
+    /// The step the node was created in (0: before the first analysed step).
+    #[inline]
+    pub fn born_step(&self) -> u64 {
+        self.born_step
+    }
+    /// Whether the body is passive (disabled in Rapier, paper §3.2): it keeps its node,
+    /// handle and user data, but has no physical or geometric edge.
+    #[inline]
+    pub fn is_passive(&self) -> bool {
+        self.passive
     }
     /// The contact group the node belonged to at the last update (`None` for insulators,
     /// logical nodes and bodies not yet grouped).

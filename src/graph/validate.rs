@@ -62,7 +62,25 @@ impl ContactGraph {
                         return fail(format!("static collider node {id:?} is not Fixed"));
                     }
                 }
-                NodeSource::Layer(_) => {}
+                NodeSource::Sensor(h) => {
+                    if self.node_of_sensor(h) != Some(id) || node.kind != NodeKind::Trigger {
+                        return fail(format!(
+                            "sensor lookup of {h:?} does not give trigger {id:?}"
+                        ));
+                    }
+                }
+                NodeSource::Container(_) | NodeSource::Layer(_) => {}
+            }
+            if node.passive && !node.edges.is_empty() {
+                let physical = node.edges.iter().any(|&e| {
+                    self.edge(e)
+                        .is_some_and(|e| matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric))
+                });
+                if physical {
+                    return fail(format!(
+                        "passive node {id:?} has physical or geometric edges"
+                    ));
+                }
             }
         }
         for (i, k) in NodeKind::ALL.iter().enumerate() {

@@ -4,54 +4,68 @@
 //! `N` spheres (default 120, radius 0.5) fall from a grid onto a plane inclined 20°,
 //! roll down across the letters D I K U engraved as grooves, and come to rest either in
 //! a groove or in a pile against the rim at the lower edge. The runner steps it for
-//! 10 simulated seconds at `dt = 0.01`.
+//! 10 simulated seconds at `dt = 0.01`; the scene only builds the world.
 //!
 //! # Geometry
-//! Everything is described in the *plane frame*: `x` runs up the slope (0 at the
-//! inner face of the lower rim, [`PLANE_LENGTH`] at the inner face of the upper rim),
-//! `y` is the plane's normal (the flat surface is `y = 0`), `z` runs across the slope
-//! (`-w/2..w/2`, `w` = [`plane_width`]). The fixed body `"plane"` sits at the world
-//! origin, rotated by the incline about the world `z` axis, so that `+x` goes uphill
-//! and the slope descends towards world `-x` ([`plane_pose`]).
+//! Everything is described in the *plane frame* ([`to_plane_frame`]): `x` runs up the
+//! slope (0 at the inner face of the lower rim, [`PLANE_LENGTH`] = 13 m at the inner
+//! face of the upper rim), `y` is the plane's normal (the flat surface is `y = 0`), `z`
+//! runs across the slope (`-w/2..w/2`, `w` = [`plane_width`]). The fixed body
+//! `"plane"` sits at the world origin, rotated by the incline about the world `z` axis
+//! ([`plane_pose`]), so `+x` goes uphill and the slope descends towards world `-x`.
 //!
 //! Along the slope, from the bottom:
-//! - `x = 0..3`: the run-out, flat, where the pile collects against the lower rim;
-//! - `x = 3..11.4`: the letter band, 7 rows of [`CELL`] = 1.2 m; a cell that belongs to
-//!   a letter stroke is a groove [`GROOVE_DEPTH`] = 0.2 m deep (0.4 radii) and 1.2 m
-//!   (1.2 diameters) wide, so a sphere drops into it, touches its bottom and follows it;
-//! - `x = 11.4..14`: a flat top strip. The drop grid (4 rows, 2 staggered layers)
-//!   hangs over `x = 9..13.2`, over the top of the letters.
+//! - `x = 0..4.5` ([`RUNOUT`]): flat run-out, where the pile collects against the rim;
+//! - `x = 4.5..10.5`: the letter band, 5 rows of [`CELL`] = 1.2 m. A cell of a letter
+//!   stroke is a groove [`GROOVE_DEPTH`] = 0.2 m (0.4 radii) deep and 1.2 m
+//!   (1.2 diameters) wide: a sphere sinks to its bottom and follows it;
+//! - `x = 10.5..13`: a flat top strip.
 //!
-//! Across the slope the letters are a 5 × 7 cell font, one blank cell between letters,
-//! so one "DIKU" is 24 cells (28.8 m), plus one blank cell at the far side. The plane
-//! holds one "DIKU" per 120 spheres ([`blocks`]): `N` scales the width only, so at
-//! 1,200 or 12,000 spheres every sphere falls and rolls as far as at 120, and the pile
-//! at the rim is as deep. Seen from above with uphill at the top, the text reads along
-//! `+z`.
+//! The drop grid has 4 rows across the slope and 2 layers: layer 0 at height 1.5 m over
+//! `x = 12.2, 11.0, 9.8, 8.6`, layer 1 at 2.7 m over `x = 11.6 .. 8.0`, offset by half
+//! a spacing down and across. It hangs over the flat top strip and the upper letter
+//! rows, so some spheres land in a groove and most roll across the letters.
 //!
-//! Why these numbers:
-//! - The slope is short (14 m, at most ~13 m of rolling): a rolling sphere accelerates
-//!   at `5/7 · g · sin 20° ≈ 2.4 m/s²` and reaches only ~8 m/s at the rim, instead of
-//!   the 15+ m/s a longer slope gives. Everything reaches the rim within ~3.5 s, which
-//!   leaves several seconds to settle.
-//! - The rim (lower edge, both sides and the upper edge) stands [`RIM_HEIGHT`] = 2.5 m
-//!   (2.5 diameters) above the surface. Spheres arriving at the rim pile up
-//!   about two layers deep and are thrown up by the ones behind; the highest centre
-//!   measured over 10 s (N = 120 and 1,200) stays about 1.2 m below the top of the
-//!   rim, so no sphere leaves the plane (the tests check it).
-//! - Grooves 0.4 radii deep hold a sphere at rest on a 20° slope: its lower groove wall
-//!   touches it about 45° away from the normal, well beyond the 20° tilt of gravity.
-//!   Fast spheres hop over grooves across the slope; slow ones are caught.
-//! - The surface is few colliders on the one fixed body, not one per cell: a flat slab
-//!   below the band, one above it, one groove-bottom slab under the band and, on it,
-//!   the flat "land" between the strokes merged greedily into rectangles ([`surface`];
-//!   28 per "DIKU", ~2,800 at 12,000 spheres), plus the four rim walls. All of them
-//!   reach down to `y = -1`, so none is thinner than 0.8 m.
-//! - Spheres start at least 0.2 m apart (surface to surface) and off the walls, with a
-//!   ±0.05 m jitter per axis from a seeded splitmix/xorshift generator (no `rand`),
-//!   inserted layer by layer, row by row, across; a given `(N, seed)` always builds the
-//!   same world. Rapier's defaults otherwise (friction 0.5, restitution 0, auto-sleep
-//!   on, no hooks or event flags).
+//! Across the slope each letter is a 5 × 5 cell font followed by one blank cell, so one
+//! "DIKU" is 24 cells (28.8 m); one more blank cell closes the far side. The plane
+//! holds one "DIKU" per 120 spheres ([`blocks`]): `N` widens the plane across the slope
+//! only, so at 1,200 or 12,000 spheres every sphere falls and rolls as far as at 120
+//! and the pile at the rim is as deep. Seen from above with uphill at the top, the text
+//! reads along `+z`.
+//!
+//! # Why these numbers
+//! - Short slope: a rolling sphere accelerates at `5/7 · g · sin 20° ≈ 2.4 m/s²`; over
+//!   at most ~12 m it reaches 7–7.6 m/s (measured), not the 15+ m/s of a long slope
+//!   that makes spheres jump a low rim. Spheres reach the rim within ~2–4 s, leaving
+//!   several seconds to settle; at 10 s the mean speed is ~0.01–0.02 m/s.
+//! - Rim height [`RIM_HEIGHT`] = 3 m (3 diameters) on all four sides. The pile is
+//!   3–4 spheres deep along the slope with a partial second layer; spheres arriving
+//!   at up to 7.5 m/s climb onto it. The highest centre measured in 10 s was 1.70 m
+//!   (N = 12,000; 1.1–1.6 m at N = 120 and 1,200), so the highest sphere's top stays
+//!   0.8 m below the rim's top and none leaves the plane ([`is_on_plane`]).
+//! - A sphere resting on a groove's bottom (centre at `y = 0.3`) meets the groove's
+//!   lower edge 53° from the plane normal, well beyond the 20° tilt of gravity, so a
+//!   slow sphere stays caught; fast ones hop across grooves. About 10 % of the spheres
+//!   end in a groove, about 90 % in the run-out.
+//! - Few colliders, all on the one fixed body: a flat slab below the band, one above
+//!   it, a groove-bottom slab under the band, the flat land between the strokes merged
+//!   greedily into rectangles on top of it ([`surface`]: 17 per "DIKU", 1,708
+//!   colliders in all at 12,000 spheres), and the four rim walls. Every piece reaches
+//!   down to `y = -1`, so none is thinner than 0.8 m. The plane's long axis is the
+//!   rotation axis, so even 1.4 km from the centre contact geometry stays precise in
+//!   `f32`.
+//! - Spheres start at least 0.2 m apart (surface to surface) and clear of the walls and
+//!   the surface, with a ±0.05 m jitter per axis from a seeded splitmix/xorshift
+//!   generator (no `rand`); a given `(N, seed)` always builds the same world. Rapier's
+//!   defaults otherwise (friction 0.5, restitution 0, auto-sleep on, no hooks or event
+//!   flags).
+//!
+//! # What to expect
+//! Rapier has no rolling resistance, so a sphere that enters a groove across the slope
+//! with some sideways speed rolls along it until it meets its end or a stroke leading
+//! down; some of these reach the pile late (after 8–10 s). Anything touching the pile
+//! keeps its whole Rapier island awake, so Rapier's auto-sleep puts few spheres to
+//! sleep by 10 s (about 5–10 % measured) although almost all are nearly at rest.
 
 use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
@@ -63,19 +77,19 @@ pub const CELL: Real = 1.2;
 /// Depth of the grooves below the flat surface `y = 0` (plane frame).
 pub const GROOVE_DEPTH: Real = 0.2;
 /// Length of the flat run-out between the lower rim (`x = 0`) and the letter band.
-pub const RUNOUT: Real = 3.0;
+pub const RUNOUT: Real = 4.5;
 /// Length of the plane along the slope, between the inner faces of the lower and the
 /// upper rim.
-pub const PLANE_LENGTH: Real = 14.0;
+pub const PLANE_LENGTH: Real = 13.0;
 /// Height of the rim walls above the flat surface.
-pub const RIM_HEIGHT: Real = 2.5;
+pub const RIM_HEIGHT: Real = 3.0;
 /// Number of spheres per repetition of "DIKU" across the slope.
 pub const SPHERES_PER_BLOCK: usize = 120;
 /// Number of cells across one "DIKU" (four 5-cell letters, each followed by a blank).
 pub const BLOCK_CELLS: usize = 24;
 
 /// Rows of the letter font (along the slope).
-const LETTER_ROWS: usize = 7;
+const LETTER_ROWS: usize = 5;
 /// Columns of the letter font (across the slope).
 const LETTER_COLS: usize = 5;
 /// All surface pieces reach down to `y = -SLAB_BOTTOM`.
@@ -93,18 +107,10 @@ const JITTER: Real = 0.05;
 
 /// Row 0 is the top of the letter (uphill); column 0 is at the lowest `z`.
 const FONT: [[&[u8; LETTER_COLS]; LETTER_ROWS]; 4] = [
-    [
-        b"####.", b"#...#", b"#...#", b"#...#", b"#...#", b"#...#", b"####.",
-    ],
-    [
-        b".###.", b"..#..", b"..#..", b"..#..", b"..#..", b"..#..", b".###.",
-    ],
-    [
-        b"#...#", b"#..#.", b"#.#..", b"##...", b"#.#..", b"#..#.", b"#...#",
-    ],
-    [
-        b"#...#", b"#...#", b"#...#", b"#...#", b"#...#", b"#...#", b".###.",
-    ],
+    [b"####.", b"#...#", b"#...#", b"#...#", b"####."],
+    [b".###.", b"..#..", b"..#..", b"..#..", b".###."],
+    [b"#...#", b"#..#.", b"###..", b"#..#.", b"#...#"],
+    [b"#...#", b"#...#", b"#...#", b"#...#", b".###."],
 ];
 
 /// Parameters of the DIKU scene.
@@ -366,5 +372,185 @@ pub fn diku(params: &DikuParams) -> Scene {
         world,
         bodies: vec![("plane", plane)],
         script: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rapier3d::prelude::RigidBodyHandle;
+
+    fn spheres(scene: &Scene) -> Vec<RigidBodyHandle> {
+        let plane = scene.body("plane").unwrap();
+        let mut hs: Vec<_> = scene.world.bodies.iter().map(|(h, _)| h).collect();
+        hs.retain(|&h| h != plane);
+        hs
+    }
+
+    #[test]
+    fn width_scales_with_the_number_of_spheres() {
+        assert_eq!(blocks(1), 1);
+        assert_eq!(blocks(120), 1);
+        assert_eq!(blocks(121), 2);
+        assert_eq!(blocks(12_000), 100);
+        assert!((plane_width(120) - 30.0).abs() < 1e-4);
+        assert!((plane_width(1200) - 289.2).abs() < 1e-3);
+        // A fixed number of colliders per "DIKU": low thousands at 12,000 spheres.
+        let per_block = surface(240).len() - surface(120).len();
+        assert_eq!(surface(360).len() - surface(240).len(), per_block);
+        assert!(per_block <= 20, "{per_block} land rectangles per DIKU");
+        assert!(surface(12_000).len() + 4 < 2_000);
+    }
+
+    #[test]
+    fn surface_has_grooves_exactly_at_the_letters() {
+        let params = DikuParams::default();
+        let pose = plane_pose(&params);
+        let scene = diku(&params);
+        let plane = scene.body("plane").unwrap();
+        // Height of the surface under plane-frame (x, z), by ray cast from above.
+        let top = |x: Real, z: Real| -> Real {
+            let mut best = Real::NEG_INFINITY;
+            for &c in scene.world.bodies[plane].colliders() {
+                let col = &scene.world.colliders[c];
+                let p = col
+                    .position()
+                    .inverse_transform_point(pose.transform_point(Vector::new(x, 0.0, z)));
+                let he = col.shape().as_cuboid().unwrap().half_extents;
+                if p.x.abs() < he.x && p.z.abs() < he.z {
+                    best = best.max(p.y + he.y);
+                }
+            }
+            best
+        };
+        let w = plane_width(120);
+        for row in 0..LETTER_ROWS {
+            let x = RUNOUT + (LETTER_ROWS - row) as Real * CELL - CELL / 2.0;
+            for col in 0..BLOCK_CELLS + 1 {
+                let z = -w / 2.0 + (col as Real + 0.5) * CELL;
+                let want = if is_groove(row, col) {
+                    -GROOVE_DEPTH
+                } else {
+                    0.0
+                };
+                assert!((top(x, z) - want).abs() < 1e-4, "cell ({row}, {col})");
+            }
+        }
+        assert!(top(RUNOUT / 2.0, 0.0).abs() < 1e-4);
+        assert!(top(PLANE_LENGTH - 0.5, 0.0).abs() < 1e-4);
+        // The I's stem: a groove in the middle row.
+        assert!(is_groove(2, 1 + 6 + 2));
+        assert!(!is_groove(2, 1 + 6 + 1));
+    }
+
+    #[test]
+    fn drop_grid_is_separated_and_above_the_plane() {
+        for n in [1, 120, 1000, 1200] {
+            let params = DikuParams {
+                spheres: n,
+                ..Default::default()
+            };
+            let ps = drop_positions(&params);
+            assert_eq!(ps.len(), n);
+            let w = plane_width(n);
+            for (i, p) in ps.iter().enumerate() {
+                assert!(p.x - params.radius >= 0.1 && p.x + params.radius <= PLANE_LENGTH - 0.1);
+                assert!(
+                    p.z.abs() + params.radius <= w / 2.0 - 0.05,
+                    "n = {n}: {p:?}"
+                );
+                assert!(p.y - params.radius >= 0.9 && p.y + params.radius < RIM_HEIGHT + 1.0);
+                for q in &ps[i + 1..] {
+                    assert!(
+                        (*p - *q).length() >= 2.0 * params.radius + 0.1,
+                        "{p:?} {q:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn builds_are_deterministic_and_sized() {
+        let params = DikuParams {
+            spheres: 1200,
+            seed: 3,
+            ..Default::default()
+        };
+        let snapshot = |s: &Scene| {
+            s.world
+                .bodies
+                .iter()
+                .map(|(h, b)| (h, b.translation(), *b.rotation(), b.colliders().len()))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (diku(&params), diku(&params));
+        assert_eq!(a.name, "diku");
+        assert_eq!(a.bodies.len(), 1);
+        assert_eq!(a.world.bodies.len(), 1201);
+        assert_eq!(spheres(&a).len(), 1200);
+        let plane = a.body("plane").unwrap();
+        assert!(a.world.bodies[plane].is_fixed());
+        assert_eq!(
+            a.world.bodies[plane].colliders().len(),
+            surface(1200).len() + 4
+        );
+        assert_eq!(snapshot(&a), snapshot(&b));
+        let colliders = |s: &Scene| {
+            s.world
+                .colliders
+                .iter()
+                .map(|(_, c)| (*c.position(), c.shape().compute_local_aabb()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(colliders(&a), colliders(&b));
+        for h in spheres(&a) {
+            assert!(a.world.bodies[h].is_dynamic());
+            assert!(is_on_plane(&params, a.world.bodies[h].translation()));
+        }
+        let c = diku(&DikuParams { seed: 4, ..params });
+        assert_ne!(snapshot(&a), snapshot(&c));
+    }
+
+    #[test]
+    fn spheres_of_120_come_to_rest_on_the_plane_within_10_s() {
+        let params = DikuParams::default();
+        let mut scene = diku(&params);
+        let hs = spheres(&scene);
+        let r = params.radius;
+        let mut lowest = Real::INFINITY;
+        for _ in 0..1000 {
+            scene.world.step();
+            for &h in &hs {
+                let p = to_plane_frame(&params, scene.world.bodies[h].translation());
+                lowest = lowest.min(p.y);
+            }
+        }
+        // Never (more than 5 cm) through the surface, not even into a groove's bottom.
+        // Measured: 0.278 (deepest landing on a groove bottom, 2.2 cm).
+        assert!(lowest >= r - GROOVE_DEPTH - 0.05, "lowest centre {lowest}");
+        let (mut speed, mut at_rim, mut in_groove) = (0.0, 0, 0);
+        for &h in &hs {
+            let b = &scene.world.bodies[h];
+            let p = to_plane_frame(&params, b.translation());
+            assert!(
+                is_on_plane(&params, b.translation()),
+                "left the plane: {p:?}"
+            );
+            // At most a second layer on the pile (measured highest at 10 s: ~1.4).
+            assert!(p.y < 2.0, "too high: {p:?}");
+            speed += b.linvel().length();
+            at_rim += (p.x < RUNOUT) as usize;
+            in_groove += is_in_groove(&params, b.translation()) as usize;
+        }
+        let mean = speed / hs.len() as Real;
+        // Measured 0.012 (seeds 0-3: 0.0004-0.023).
+        assert!(mean < 0.1, "not at rest: mean speed {mean}");
+        // Measured 109 at the rim, 11 in grooves.
+        assert!(at_rim >= 90, "only {at_rim} at the rim");
+        assert!(
+            in_groove >= 1 && at_rim + in_groove >= 110,
+            "{at_rim} + {in_groove}"
+        );
     }
 }

@@ -14,12 +14,14 @@
 use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 
 pub mod ball_on_box;
+pub mod diku;
 pub mod kinematic_platform;
 pub mod pile;
 pub mod sphere_stack;
 pub mod two_piles;
 
 pub use ball_on_box::ball_on_box;
+pub use diku::{diku, DikuParams};
 pub use kinematic_platform::kinematic_platform;
 pub use pile::sphere_pile;
 pub use sphere_stack::sphere_stack;

@@ -1,0 +1,135 @@
+//! Turning the marks of a step into events, at the safe point (paper Fig. 10).
+
+use super::{Event, EventKind, KindSet};
+use crate::graph::{ContactGraph, Edge, EdgeKind, NodeId, NodeKind, Transition};
+
+/// Everything a step's events are made of.
+pub(crate) struct StepMarks<'a> {
+    pub step: u64,
+    pub graph: &'a ContactGraph,
+    pub removed_edges: &'a [Edge],
+    pub touched: &'a [crate::EdgeId],
+    pub sleep_changes: &'a [(NodeId, bool)],
+    pub ticks: &'a [(NodeId, u64)],
+    /// Nodes removed this step (their kinds and handles are no longer in the graph).
+    pub removed_nodes: &'a [crate::coherence::RemovedNode],
+}
+
+impl StepMarks<'_> {
+    fn kind(&self, n: NodeId) -> Option<NodeKind> {
+        self.graph.node(n).map(|x| x.kind()).or_else(|| {
+            self.removed_nodes
+                .iter()
+                .find(|r| r.id == n)
+                .map(|r| r.kind)
+        })
+    }
+    fn body(&self, n: NodeId) -> Option<rapier3d::prelude::RigidBodyHandle> {
+        self.graph.body_of(n).or_else(|| {
+            self.removed_nodes
+                .iter()
+                .find(|r| r.id == n)
+                .and_then(|r| match r.source {
+                    crate::NodeSource::Body(h) => Some(h),
+                    _ => None,
+                })
+        })
+    }
+}
+
+/// Appends the step's events of the wanted kinds to `out`, in the documented order.
+pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
+    if wanted.is_empty() {
+        return;
+    }
+    let step = m.step;
+    let body = |n: NodeId| m.body(n);
+    let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Trigger);
+    let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
+        if wanted.contains(kind) {
+            out.push(Event {
+                step,
+                kind,
+                a,
+                b,
+                body_a: body(a),
+                body_b: b.and_then(body),
+                tick,
+            });
+        }
+    };
+    let awake = |n: NodeId| m.graph.node(n).is_some_and(|n| n.is_awake());
+
+    // 1. Ends of edges removed with a node (or made passive, or left a trigger).
+    for e in m.removed_edges {
+        edge_events(e, step, false, &is_trigger, &mut push);
+    }
+    // 2. Edge events in refresh order.
+    for &id in m.touched {
+        if let Some(e) = m.graph.edge(id) {
+            let persist = awake(e.a()) || awake(e.b());
+            edge_events(e, step, persist, &is_trigger, &mut push);
+        }
+    }
+    // 3. Sleep and wake.
+    for &(n, now_awake) in m.sleep_changes {
+        let kind = if now_awake {
+            EventKind::WokeUp
+        } else {
+            EventKind::FellAsleep
+        };
+        push(kind, n, None, 0);
+    }
+    // 4. Timers.
+    for &(t, k) in m.ticks {
+        push(EventKind::TimerTick, t, None, k);
+    }
+}
+
+fn edge_events(
+    e: &Edge,
+    step: u64,
+    persist: bool,
+    is_trigger: &dyn Fn(NodeId) -> bool,
+    push: &mut impl FnMut(EventKind, NodeId, Option<NodeId>, u64),
+) {
+    let (a, b) = (e.a(), Some(e.b()));
+    match e.kind() {
+        EdgeKind::Physical => {
+            let p = e.proximity_mark(step);
+            let t = e.touching_mark(step);
+            if p == Some(Transition::New) {
+                push(EventKind::ProximityBegin, a, b, 0);
+            }
+            if t == Some(Transition::New) {
+                push(EventKind::TouchBegin, a, b, 0);
+            }
+            if persist && p == Some(Transition::Persistent) {
+                push(EventKind::ProximityPersist, a, b, 0);
+            }
+            if persist && t == Some(Transition::Persistent) {
+                push(EventKind::TouchPersist, a, b, 0);
+            }
+            if t == Some(Transition::Vanished) {
+                push(EventKind::TouchEnd, a, b, 0);
+            }
+            if p == Some(Transition::Vanished) {
+                push(EventKind::ProximityEnd, a, b, 0);
+            }
+        }
+        EdgeKind::Geometric => {
+            // A trigger edge: the trigger first, the body second.
+            let (trigger, body) = if is_trigger(e.a()) {
+                (e.a(), e.b())
+            } else {
+                (e.b(), e.a())
+            };
+            match e.proximity_mark(step) {
+                Some(Transition::New) => push(EventKind::TriggerEnter, trigger, Some(body), 0),
+                Some(Transition::Vanished) => push(EventKind::TriggerExit, trigger, Some(body), 0),
+                _ => {}
+            }
+        }
+        EdgeKind::Structural | EdgeKind::Logical => {}
+    }
+}

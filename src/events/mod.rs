@@ -1,0 +1,212 @@
+//! Events (paper §4, Table 3, plus sleep and wake) delivered on crossbeam channels.
+//!
+//! # The listener contract
+//! - **When.** Events are generated once per step, at the end of the analysis: the
+//!   paper's "safe point" (its second solution). Nothing is sent from inside Rapier's
+//!   step, so a receiver may read the graph (through the layer) while handling events.
+//! - **Which step.** Every event carries the index of the step it describes
+//!   ([`crate::ContactLayer::current_step`] right after that step).
+//! - **Pairs.** `a` is the node with the smaller slot index (the paper's *A*), `b`
+//!   the other; for trigger events `a` is the trigger and `b` the body.
+//! - **Lifecycle.** For a pair, every `ProximityBegin` is followed by zero or more
+//!   `ProximityPersist` and exactly one `ProximityEnd`; likewise `TouchBegin` /
+//!   `TouchPersist` / `TouchEnd`, always nested inside the proximity span;
+//!   `TriggerEnter` and `TriggerExit` alternate. Removing a body (or making it
+//!   passive) ends every span it is part of, in the step the layer sees it go.
+//! - **Persist events** are sent only for pairs with an awake body; the pairs of
+//!   sleeping bodies are frozen (queries on the graph stay exact for them).
+//! - **Order within a step** (deterministic: the same inputs give the same stream):
+//!   1. ends of edges removed with a node (`TouchEnd`, `ProximityEnd`, `TriggerExit`),
+//!      in removal order;
+//!   2. edge events, edge by edge in the order the analysis refreshed them (Rapier's
+//!      pair order, then vanished edges): `ProximityBegin`, `TouchBegin`,
+//!      `ProximityPersist`, `TouchPersist`, `TouchEnd`, `ProximityEnd`;
+//!      trigger edges give `TriggerEnter` / `TriggerExit`;
+//!   3. `FellAsleep` / `WokeUp`, in the order the bodies were refreshed;
+//!   4. `TimerTick`, timers in slot order, ticks ascending.
+//! - **Back-pressure.** A step never blocks. An unbounded subscription
+//!   ([`crate::ContactLayer::subscribe`]) never drops. A bounded one
+//!   ([`crate::ContactLayer::subscribe_bounded`]) drops the *newest* events that do
+//!   not fit and counts them ([`EventBus::dropped`]). A subscription whose receiver
+//!   was dropped is removed the first time an event for it cannot be delivered.
+//! - **Cost.** Events of kinds nobody subscribed to are not generated.
+
+mod bus;
+pub(crate) mod collect;
+
+pub use bus::{EventBus, SubscriptionId};
+
+use rapier3d::prelude::RigidBodyHandle;
+
+use crate::graph::NodeId;
+
+/// The kinds of event.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u8)]
+pub enum EventKind {
+    /// Two bodies came into close proximity (a Rapier narrow-phase pair appeared).
+    ProximityBegin = 0,
+    /// Two awake bodies stayed in close proximity.
+    ProximityPersist = 1,
+    /// Two bodies left close proximity (or one was removed or made passive).
+    ProximityEnd = 2,
+    /// Two bodies started touching.
+    TouchBegin = 3,
+    /// Two bodies, one awake, kept touching.
+    TouchPersist = 4,
+    /// Two bodies stopped touching.
+    TouchEnd = 5,
+    /// A body entered a trigger volume.
+    TriggerEnter = 6,
+    /// A body left a trigger volume.
+    TriggerExit = 7,
+    /// A timer's period elapsed.
+    TimerTick = 8,
+    /// A body fell asleep.
+    FellAsleep = 9,
+    /// A body woke up.
+    WokeUp = 10,
+}
+
+impl EventKind {
+    /// All kinds, in declaration order.
+    pub const ALL: [EventKind; 11] = [
+        EventKind::ProximityBegin,
+        EventKind::ProximityPersist,
+        EventKind::ProximityEnd,
+        EventKind::TouchBegin,
+        EventKind::TouchPersist,
+        EventKind::TouchEnd,
+        EventKind::TriggerEnter,
+        EventKind::TriggerExit,
+        EventKind::TimerTick,
+        EventKind::FellAsleep,
+        EventKind::WokeUp,
+    ];
+
+    const fn bit(self) -> u16 {
+        1 << self as u8
+    }
+}
+
+/// A set of event kinds.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, Default)]
+pub struct KindSet(u16);
+
+impl KindSet {
+    /// No kind.
+    pub const NONE: KindSet = KindSet(0);
+    /// Every kind.
+    pub const ALL: KindSet = KindSet((1 << EventKind::ALL.len()) - 1);
+    /// Proximity begin / persist / end.
+    pub const PROXIMITY: KindSet = KindSet(0b000_0000_0111);
+    /// Touch begin / persist / end.
+    pub const TOUCH: KindSet = KindSet(0b000_0011_1000);
+    /// Trigger enter / exit.
+    pub const TRIGGER: KindSet = KindSet(0b000_1100_0000);
+    /// Fell asleep / woke up.
+    pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
+
+    /// The set of the given kinds.
+    pub fn of(kinds: &[EventKind]) -> KindSet {
+        KindSet(kinds.iter().fold(0, |acc, k| acc | k.bit()))
+    }
+    /// Whether `kind` is in the set.
+    #[inline]
+    pub const fn contains(self, kind: EventKind) -> bool {
+        self.0 & kind.bit() != 0
+    }
+    /// The union of two sets.
+    #[inline]
+    pub const fn union(self, other: KindSet) -> KindSet {
+        KindSet(self.0 | other.0)
+    }
+    /// Whether the set is empty.
+    #[inline]
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// Whether the two sets share a kind.
+    #[inline]
+    pub const fn intersects(self, other: KindSet) -> bool {
+        self.0 & other.0 != 0
+    }
+}
+
+/// One event. `Copy`, 64 bytes or less: cheap to send.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Event {
+    /// The step the event describes.
+    pub step: u64,
+    /// What happened.
+    pub kind: EventKind,
+    /// The pair's *A* node, the trigger, the timer, or the body that slept or woke.
+    pub a: NodeId,
+    /// The pair's *B* node, or the body entering or leaving the trigger.
+    pub b: Option<NodeId>,
+    /// The Rapier body of `a`, if it is (or was) a body.
+    pub body_a: Option<RigidBodyHandle>,
+    /// The Rapier body of `b`, if it is (or was) a body.
+    pub body_b: Option<RigidBodyHandle>,
+    /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
+    pub tick: u64,
+}
+
+/// Which events a subscription receives: kinds, and optionally nodes.
+///
+/// A node filter matches an event if `a` or `b` is one of the nodes, or is a member
+/// of one of them (a container node given in the filter matches events of its bodies).
+///
+/// # Example
+/// ```
+/// use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+/// let f = Filter::kinds(KindSet::TOUCH).or_kind(EventKind::TriggerEnter);
+/// assert!(f.kinds_set().contains(EventKind::TouchBegin));
+/// assert!(!f.kinds_set().contains(EventKind::ProximityBegin));
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Filter {
+    kinds: KindSet,
+    nodes: Option<Vec<NodeId>>,
+}
+
+impl Default for Filter {
+    fn default() -> Self {
+        Self::all()
+    }
+}
+
+impl Filter {
+    /// Every event.
+    pub fn all() -> Self {
+        Self {
+            kinds: KindSet::ALL,
+            nodes: None,
+        }
+    }
+    /// Events of the given kinds.
+    pub fn kinds(kinds: KindSet) -> Self {
+        Self { kinds, nodes: None }
+    }
+    /// Adds a kind.
+    pub fn or_kind(mut self, kind: EventKind) -> Self {
+        self.kinds = self.kinds.union(KindSet::of(&[kind]));
+        self
+    }
+    /// Restricts to events involving one of `nodes` (or a member of one of them).
+    pub fn with_nodes(mut self, nodes: &[NodeId]) -> Self {
+        let mut v = nodes.to_vec();
+        v.sort();
+        v.dedup();
+        self.nodes = Some(v);
+        self
+    }
+    /// The kinds.
+    pub fn kinds_set(&self) -> KindSet {
+        self.kinds
+    }
+    /// The node restriction, if any (sorted).
+    pub fn nodes(&self) -> Option<&[NodeId]> {
+        self.nodes.as_deref()
+    }
+}

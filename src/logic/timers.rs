@@ -1,0 +1,134 @@
+//! Timers (node kind `Timer`): a period in simulated seconds, a tick count.
+//!
+//! No drift: tick *k* is due when the simulated time since the timer was added first
+//! reaches *k*·period, each due time computed as *k*·period, never by adding periods
+//! up. The simulated time is kept without accumulating rounding: Rapier's `dt` is an
+//! `f32` (0.01 is stored as 0.00999999977…, which would lose a step every few
+//! thousand seconds), so it is read as the decimal it prints as (0.01), and the time is
+//! `base + n·dt` with `n` the steps taken since `dt` last changed. A tick is taken as
+//! reached when the time is within a thousandth of a step of it. A step longer than
+//! the period fires every tick it covers, in order.
+
+use crate::graph::NodeId;
+
+#[derive(Clone, Debug)]
+struct Timer {
+    node: NodeId,
+    period: f64,
+    /// Simulated time when the timer was added.
+    start: f64,
+    /// Ticks fired so far.
+    ticks: u64,
+}
+
+/// The timers of a layer.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Timers {
+    list: Vec<Timer>,
+    /// Simulated time: `base + steps * dt`.
+    time: f64,
+    base: f64,
+    steps: u64,
+    dt_bits: u32,
+    dt: f64,
+}
+
+impl Timers {
+    pub(crate) fn time(&self) -> f64 {
+        self.time
+    }
+
+    pub(crate) fn add(&mut self, node: NodeId, period: f64) {
+        self.list.push(Timer {
+            node,
+            period,
+            start: self.time,
+            ticks: 0,
+        });
+        // Slot order for deterministic event order.
+        self.list.sort_by_key(|t| t.node.index());
+    }
+
+    pub(crate) fn remove(&mut self, node: NodeId) -> bool {
+        let before = self.list.len();
+        self.list.retain(|t| t.node != node);
+        before != self.list.len()
+    }
+
+    pub(crate) fn period(&self, node: NodeId) -> Option<f64> {
+        self.list.iter().find(|t| t.node == node).map(|t| t.period)
+    }
+
+    pub(crate) fn ticks(&self, node: NodeId) -> Option<u64> {
+        self.list.iter().find(|t| t.node == node).map(|t| t.ticks)
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// Advances the time by one step of `dt` and reports the ticks due,
+    /// `(timer, tick)` in timer slot order, ticks ascending. O(timers + ticks).
+    pub(crate) fn advance(&mut self, dt: f32, out: &mut Vec<(NodeId, u64)>) {
+        if dt.to_bits() != self.dt_bits || self.steps == 0 {
+            self.base = self.time;
+            self.steps = 0;
+            self.dt_bits = dt.to_bits();
+            // The shortest decimal that round-trips to `dt`: 0.01f32 → 0.01f64.
+            self.dt = dt.to_string().parse::<f64>().unwrap_or(dt as f64);
+        }
+        self.steps += 1;
+        self.time = self.base + self.steps as f64 * self.dt;
+        let dt = self.dt;
+        let slack = dt * 1e-3;
+        for t in &mut self.list {
+            let elapsed = self.time - t.start;
+            while elapsed + slack >= (t.ticks + 1) as f64 * t.period {
+                t.ticks += 1;
+                out.push((t.node, t.ticks));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_do_not_drift_over_a_long_run() {
+        let mut timers = Timers::default();
+        let n = NodeId::from_raw_parts(0, 0);
+        timers.add(n, 0.25);
+        let mut out = Vec::new();
+        let dt = 0.01f32;
+        let mut fired_at = Vec::new();
+        for step in 1..=1_000_000u64 {
+            out.clear();
+            timers.advance(dt, &mut out);
+            for &(_, k) in &out {
+                fired_at.push((k, step));
+            }
+        }
+        assert_eq!(fired_at.len(), 40_000);
+        for &(k, step) in &fired_at {
+            assert_eq!(step, 25 * k, "tick {k} fired at step {step}");
+        }
+    }
+
+    #[test]
+    fn a_long_step_fires_every_tick_it_covers() {
+        let mut timers = Timers::default();
+        let n = NodeId::from_raw_parts(3, 0);
+        timers.add(n, 0.1);
+        let mut out = Vec::new();
+        timers.advance(0.35, &mut out);
+        assert_eq!(out, vec![(n, 1), (n, 2), (n, 3)]);
+        out.clear();
+        timers.advance(0.05, &mut out);
+        assert_eq!(out, vec![(n, 4)], "a change of dt keeps the time exact");
+        assert_eq!(timers.ticks(n), Some(4));
+        assert!(timers.remove(n));
+        assert!(!timers.remove(n));
+    }
+}
