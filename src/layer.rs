@@ -444,6 +444,12 @@ impl ContactLayer {
     /// default, so triggers on fixed, kinematic and dynamic bodies see bodies of every
     /// type), or leaves sensors as the user built them (`false`; set before the first
     /// step).
+    ///
+    /// Widening happens in the pre-step before a sensor's first Rapier step. Rapier
+    /// pairs colliders that do not move only when they appear, so a sensor that was
+    /// stepped before the layer saw it does not see fixed bodies already inside it;
+    /// attach the layer before the first step, or build such sensors with
+    /// `ActiveCollisionTypes::all()`.
     pub fn set_trigger_widening(&mut self, on: bool) {
         self.logic.widen_sensors = on;
     }

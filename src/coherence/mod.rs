@@ -288,10 +288,38 @@ impl Coherence {
                 self.walk_pairs(graph, view, screen, me);
             }
         }
-        // Trigger volumes: the intersection pairs of the refreshed bodies' colliders.
+        // Trigger volumes: the triggers carried by refreshed bodies and the new ones are
+        // read from their side; then the refreshed and new bodies' colliders meet the
+        // other triggers.
         self.triggers.clear();
+        let mut sensors = Vec::new();
         for &me in &walk {
-            self.walk_intersections(graph, view, screen, me);
+            if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
+                if let Some(rb) = view.bodies.get(h) {
+                    for &c in rb.colliders() {
+                        if view.colliders.get(c).is_some_and(|c| c.is_sensor()) {
+                            sensors.push(c);
+                        }
+                    }
+                }
+            }
+        }
+        let mut to_read: Vec<NodeId> = sensors
+            .into_iter()
+            .filter_map(|c| nodes::ensure_trigger_node(graph, view, c, &mut self.created))
+            .collect();
+        let created_now = self.created.clone();
+        to_read.extend(
+            created_now
+                .iter()
+                .copied()
+                .filter(|&n| graph.node(n).is_some_and(|n| n.kind == NodeKind::Trigger)),
+        );
+        for t in to_read {
+            self.walk_trigger(graph, view, screen, t);
+        }
+        for &me in walk.iter().chain(created_now.iter()) {
+            self.walk_body_sensors(graph, view, screen, me);
         }
         for &me in &walk {
             groups.disturb(graph, me);
@@ -341,13 +369,19 @@ impl Coherence {
             if n.seen_step == step {
                 return;
             }
-            let was_awake = n.awake;
+            let (was_awake, was_passive) = (n.awake, n.passive);
             n.seen_step = step;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
             n.non_finite = !finite;
             n.passive = !enabled;
-            // A body created this step does not "wake up" or "fall asleep": it starts.
-            if n.kind.is_simulated() && was_awake != n.awake && n.born_step != step {
+            // A body created this step does not "wake up" or "fall asleep": it starts;
+            // nor does a body made passive or active again (passive is not asleep).
+            let passive_change = was_passive || n.passive;
+            if n.kind.is_simulated()
+                && was_awake != n.awake
+                && n.born_step != step
+                && !passive_change
+            {
                 self.sleep_changes.push((id, n.awake));
             }
             self.walk.push(id);
@@ -580,11 +614,42 @@ impl Coherence {
         }
     }
 
-    /// Adds the trigger pairs of one refreshed body's colliders: a body entering a
-    /// trigger gets a geometric edge (trigger – body) while any of its colliders
-    /// intersects the sensor. A pair is read from the sensor's side when the sensor's
-    /// body is refreshed too, else from the other side, so it is read once.
-    fn walk_intersections(
+    /// Reads the intersection pairs of one trigger (its sensor collider) into
+    /// geometric edges, and marks the trigger as read this step.
+    fn walk_trigger(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        t: NodeId,
+    ) {
+        let step = self.step;
+        let Some(node) = graph.node_mut(t) else {
+            return;
+        };
+        let NodeSource::Sensor(sensor) = node.source else {
+            return;
+        };
+        if node.seen_step == step {
+            return;
+        }
+        node.seen_step = step;
+        self.triggers.push(t);
+        for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs_with(sensor) {
+            let oc = if c1 == sensor { c2 } else { c1 };
+            if view.colliders.get(oc).is_none_or(|c| c.is_sensor()) {
+                continue; // trigger–trigger pairs are ignored (Table 2)
+            }
+            self.counters.collider_pairs += 1;
+            if intersecting {
+                self.feed_trigger(graph, view, screen, t, oc);
+            }
+        }
+    }
+
+    /// Reads the intersection pairs of a body's (or static collider's) non-sensor
+    /// colliders with triggers not read this step.
+    fn walk_body_sensors(
         &mut self,
         graph: &mut ContactGraph,
         view: &WorldView,
@@ -592,73 +657,68 @@ impl Coherence {
         me: NodeId,
     ) {
         let step = self.step;
-        let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) else {
-            return;
+        let colliders: Vec<ColliderHandle> = match graph.node(me).map(|n| n.source) {
+            Some(NodeSource::Body(h)) => match view.bodies.get(h) {
+                Some(rb) => rb.colliders().to_vec(),
+                None => return,
+            },
+            Some(NodeSource::StaticCollider(c)) => vec![c],
+            _ => return,
         };
-        let Some(rb) = view.bodies.get(h) else { return };
-        for &ch in rb.colliders() {
-            let mine_is_sensor = view.colliders.get(ch).is_some_and(|c| c.is_sensor());
-            if mine_is_sensor {
-                if let Some(t) = nodes::ensure_trigger_node(graph, view, ch, &mut self.created) {
-                    self.triggers.push(t);
-                }
+        for ch in colliders {
+            if view.colliders.get(ch).is_none_or(|c| c.is_sensor()) {
+                continue;
             }
             for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs_with(ch) {
-                let oc = if c1 == ch { c2 } else { c1 };
-                let Some(other) = view.colliders.get(oc) else {
-                    continue;
-                };
-                let (sensor, body_collider) = match (mine_is_sensor, other.is_sensor()) {
-                    (true, false) => (ch, oc),
-                    (false, true) => {
-                        // Read from the sensor's side if its body is refreshed too.
-                        let sensor_body_refreshed = other
-                            .parent()
-                            .and_then(|p| graph.node_of_body(p))
-                            .and_then(|n| graph.node(n))
-                            .is_some_and(|n| n.seen_step == step);
-                        if sensor_body_refreshed {
-                            continue;
-                        }
-                        (oc, ch)
-                    }
-                    // Trigger–trigger pairs are ignored (Table 2).
-                    _ => continue,
-                };
-                self.counters.collider_pairs += 1;
-                if !intersecting {
-                    continue;
-                }
+                let sensor = if c1 == ch { c2 } else { c1 };
                 let Some(t) = nodes::ensure_trigger_node(graph, view, sensor, &mut self.created)
                 else {
                     continue;
                 };
-                let Some(b) = self.owner_of(graph, view, body_collider) else {
-                    continue;
-                };
-                if !screen.admits(graph, t, b) {
-                    continue;
+                if graph.node(t).is_some_and(|n| n.seen_step == step) {
+                    continue; // read from the trigger's side
                 }
-                let Some(eid) = graph.ensure_edge(t, b, EdgeKind::Geometric, step) else {
-                    continue;
-                };
-                let Some(e) = graph.edge_mut(eid) else {
-                    continue;
-                };
-                if e.kind != EdgeKind::Geometric {
-                    continue;
+                self.counters.collider_pairs += 1;
+                if intersecting {
+                    self.feed_trigger(graph, view, screen, t, ch);
                 }
-                if e.walk_stamp != step {
-                    e.cache.begin_update(false);
-                    e.walk_stamp = step;
-                    e.updated_step = step;
-                    self.touched.push(eid);
-                    self.counters.edges += 1;
-                }
-                e.cache.proximity = true;
-                e.cache.collider_pairs += 1;
             }
         }
+    }
+
+    /// Adds one intersecting sensor–collider pair to the geometric edge of the trigger
+    /// and the collider's owner.
+    fn feed_trigger(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        t: NodeId,
+        body_collider: ColliderHandle,
+    ) {
+        let step = self.step;
+        let Some(b) = self.owner_of(graph, view, body_collider) else {
+            return;
+        };
+        if !screen.admits(graph, t, b) {
+            return;
+        }
+        let Some(eid) = graph.ensure_edge(t, b, EdgeKind::Geometric, step) else {
+            return;
+        };
+        let Some(e) = graph.edge_mut(eid) else { return };
+        if e.kind != EdgeKind::Geometric {
+            return;
+        }
+        if e.walk_stamp != step {
+            e.cache.begin_update(false);
+            e.walk_stamp = step;
+            e.updated_step = step;
+            self.touched.push(eid);
+            self.counters.edges += 1;
+        }
+        e.cache.proximity = true;
+        e.cache.collider_pairs += 1;
     }
 }
 

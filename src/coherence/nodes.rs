@@ -94,13 +94,17 @@ pub(crate) fn ensure_trigger_node(
     collider: ColliderHandle,
     created: &mut Vec<NodeId>,
 ) -> Option<NodeId> {
-    if !view.colliders.get(collider)?.is_sensor() {
+    let c = view.colliders.get(collider)?;
+    if !c.is_sensor() {
         return None;
     }
     Some(match graph.node_of_sensor(collider) {
         Some(id) => id,
         None => {
             let id = graph.add_node(NodeKind::Trigger, NodeSource::Sensor(collider));
+            if let Some(n) = graph.node_mut(id) {
+                n.carrier = c.parent();
+            }
             created.push(id);
             id
         }

@@ -25,7 +25,8 @@ impl StepMarks<'_> {
         })
     }
     fn body(&self, n: NodeId) -> Option<rapier3d::prelude::RigidBodyHandle> {
-        self.graph.body_of(n).or_else(|| {
+        let node = self.graph.node(n);
+        node.and_then(|x| x.body().or(x.carrier())).or_else(|| {
             self.removed_nodes
                 .iter()
                 .find(|r| r.id == n)

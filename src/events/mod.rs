@@ -144,7 +144,8 @@ pub struct Event {
     pub a: NodeId,
     /// The pair's *B* node, or the body entering or leaving the trigger.
     pub b: Option<NodeId>,
-    /// The Rapier body of `a`, if it is (or was) a body.
+    /// The Rapier body of `a`, if it is (or was) a body; for a trigger, the body
+    /// carrying its sensor collider.
     pub body_a: Option<RigidBodyHandle>,
     /// The Rapier body of `b`, if it is (or was) a body.
     pub body_b: Option<RigidBodyHandle>,

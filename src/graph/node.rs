@@ -135,6 +135,8 @@ pub struct Node {
     pub(crate) passive: bool,
     /// The step the node was created in.
     pub(crate) born_step: u64,
+    /// For a trigger: the body carrying its sensor collider, if any.
+    pub(crate) carrier: Option<RigidBodyHandle>,
 }
 
 impl Node {
@@ -150,6 +152,7 @@ impl Node {
             group: None,
             passive: false,
             born_step,
+            carrier: None,
         }
     }
 
@@ -192,6 +195,12 @@ impl Node {
     #[inline]
     pub fn is_non_finite(&self) -> bool {
         self.non_finite
+    }
+    /// For a trigger node, the body carrying its sensor collider (`None` for a
+    /// parentless sensor and for other nodes).
+    #[inline]
+    pub fn carrier(&self) -> Option<RigidBodyHandle> {
+        self.carrier
     }
     /// The step the node was created in (0: before the first analysed step).
     #[inline]

@@ -26,8 +26,14 @@ use crate::graph::{Arena, ContactGraph, EdgeId, EdgeKind, NodeId, NodeKind};
 /// A contact group's id: generational, valid while the group lives (an awake group
 /// lives for one step; a sleeping one until it is disturbed).
 #[repr(transparent)]
-#[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+#[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct GroupId(u64);
+
+impl std::fmt::Debug for GroupId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "g{}v{}", self.index(), self.generation())
+    }
+}
 
 impl GroupId {
     fn new(index: u32, generation: u32) -> Self {
@@ -213,7 +219,17 @@ impl Groups {
             let Some(node) = graph.node(root) else {
                 continue;
             };
-            if node.visit_stamp == stamp || !member_kind(node.kind) || insulates(graph, root) {
+            // A passive body takes part in nothing, groups included.
+            if node.visit_stamp == stamp
+                || !member_kind(node.kind)
+                || node.passive
+                || insulates(graph, root)
+            {
+                if node.passive {
+                    if let Some(old) = node.group {
+                        self.dissolve(graph, old);
+                    }
+                }
                 continue;
             }
             if let Some(old) = node.group {
@@ -254,7 +270,7 @@ impl Groups {
                     group.contacts += contacts;
                     group.variables += variables;
                     let Some(other) = graph.node(m) else { continue };
-                    if !member_kind(other.kind) || insulates(graph, m) {
+                    if !member_kind(other.kind) || other.passive || insulates(graph, m) {
                         group.insulators.push(m);
                         continue;
                     }

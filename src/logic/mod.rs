@@ -67,8 +67,6 @@ pub(crate) struct Logic {
     /// Sensors we widened, with the collision types they had before.
     widened: HashMap<ColliderHandle, ActiveCollisionTypes>,
     pub(crate) widen_sensors: bool,
-    /// Trigger nodes at the last widening pass (the pass runs when it changes).
-    widened_seen: usize,
     pub(crate) timers: timers::Timers,
     pub(crate) containers: containers::Containers,
     /// Declared composites: container node → members.
@@ -211,17 +209,12 @@ impl Logic {
                 rb.set_enabled(!passive);
             }
         }
-        let triggers = graph.count_of_kind(crate::NodeKind::Trigger);
-        if self.widen_sensors && triggers != self.widened_seen {
-            self.widened_seen = triggers;
-            for (_, node) in graph.nodes_of_kind(crate::NodeKind::Trigger) {
-                let NodeSource::Sensor(c) = node.source() else {
-                    continue;
-                };
-                if self.widened.contains_key(&c) {
-                    continue;
-                }
-                if let Some(col) = world.colliders.get_mut(c) {
+        // Sensors are widened before their first Rapier step: Rapier pairs colliders
+        // that do not move only when they appear, so widening later would miss
+        // triggers on fixed bodies. Scanned only when the collider count changed.
+        if self.widen_sensors && colliders_changed {
+            for (c, col) in world.colliders.iter_mut() {
+                if col.is_sensor() && !self.widened.contains_key(&c) {
                     self.widened.insert(c, col.active_collision_types());
                     col.set_active_collision_types(ActiveCollisionTypes::all());
                 }

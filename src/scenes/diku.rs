@@ -37,12 +37,12 @@
 //! - Short slope: a rolling sphere accelerates at `5/7 · g · sin 20° ≈ 2.4 m/s²`; over
 //!   at most ~12 m it reaches 7–7.6 m/s (measured), not the 15+ m/s of a long slope
 //!   that makes spheres jump a low rim. Spheres reach the rim within ~2–4 s, leaving
-//!   several seconds to settle; at 10 s the mean speed is ~0.01–0.02 m/s.
+//!   several seconds to settle; at 10 s the mean speed is ~0.005–0.02 m/s.
 //! - Rim height [`RIM_HEIGHT`] = 3 m (3 diameters) on all four sides. The pile is
 //!   3–4 spheres deep along the slope with a partial second layer; spheres arriving
-//!   at up to 7.5 m/s climb onto it. The highest centre measured in 10 s was 1.70 m
-//!   (N = 12,000; 1.1–1.6 m at N = 120 and 1,200), so the highest sphere's top stays
-//!   0.8 m below the rim's top and none leaves the plane ([`is_on_plane`]).
+//!   at up to 7.5 m/s climb onto it. The highest centre measured in 10 s was 1.73 m
+//!   (N = 12,000; 1.0–1.5 m at N = 120 and 1,200), so the highest sphere's top stays
+//!   about 0.8 m below the rim's top and none leaves the plane ([`is_on_plane`]).
 //! - A sphere resting on a groove's bottom (centre at `y = 0.3`) meets the groove's
 //!   lower edge 53° from the plane normal, well beyond the 20° tilt of gravity, so a
 //!   slow sphere stays caught; fast ones hop across grooves. About 10 % of the spheres
@@ -418,7 +418,7 @@ mod tests {
                     .inverse_transform_point(pose.transform_point(Vector::new(x, 0.0, z)));
                 let he = col.shape().as_cuboid().unwrap().half_extents;
                 if p.x.abs() < he.x && p.z.abs() < he.z {
-                    best = best.max(p.y + he.y);
+                    best = best.max(he.y - p.y);
                 }
             }
             best
@@ -537,14 +537,15 @@ mod tests {
                 is_on_plane(&params, b.translation()),
                 "left the plane: {p:?}"
             );
-            // At most a second layer on the pile (measured highest at 10 s: ~1.4).
-            assert!(p.y < 2.0, "too high: {p:?}");
+            // Resting on the plane or at most on a second layer (measured: all 120 on
+            // the plane at 10 s, highest centre 0.50).
+            assert!(p.y < 3.0 * r, "too high: {p:?}");
             speed += b.linvel().length();
             at_rim += (p.x < RUNOUT) as usize;
             in_groove += is_in_groove(&params, b.translation()) as usize;
         }
         let mean = speed / hs.len() as Real;
-        // Measured 0.012 (seeds 0-3: 0.0004-0.023).
+        // Measured 0.005 (0.0004-0.023 over seeds 0-3 in release runs).
         assert!(mean < 0.1, "not at rest: mean speed {mean}");
         // Measured 109 at the rim, 11 in grooves.
         assert!(at_rim >= 90, "only {at_rim} at the rim");

@@ -16,15 +16,21 @@ use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 pub mod ball_on_box;
 pub mod diku;
 pub mod kinematic_platform;
+pub mod pendulum;
 pub mod pile;
 pub mod sphere_stack;
+pub mod toppling_stack;
+pub mod trigger_ledge;
 pub mod two_piles;
 
 pub use ball_on_box::ball_on_box;
 pub use diku::{diku, DikuParams};
 pub use kinematic_platform::kinematic_platform;
+pub use pendulum::pendulum_wall;
 pub use pile::sphere_pile;
 pub use sphere_stack::sphere_stack;
+pub use toppling_stack::toppling_stack;
+pub use trigger_ledge::trigger_ledge;
 pub use two_piles::two_piles_with_wall;
 
 /// The time step every scene sets in `integration_parameters.dt`.

@@ -54,6 +54,14 @@ impl Names {
                 self.0.entry(n).or_insert_with(|| name.to_string());
             }
         }
+        // Triggers are named after the body carrying them.
+        for (id, node) in layer.graph().nodes() {
+            if let Some(carrier) = node.carrier() {
+                if let Some((name, _)) = scene.bodies.iter().find(|(_, h)| *h == carrier) {
+                    self.0.entry(id).or_insert_with(|| format!("{name}-sensor"));
+                }
+            }
+        }
         // Unnamed bodies get their kind letter and handle index.
         for (id, node) in layer.graph().nodes() {
             self.0.entry(id).or_insert_with(|| match node.body() {
@@ -82,4 +90,29 @@ pub fn snapshot_frames(mut scene: Scene, frames: &[u64]) -> Vec<(u64, String)> {
         out.push((f, names.describe(&layer)));
     }
     out
+}
+
+pub mod contract;
+
+/// Formats an event stream with names, one event a line, for snapshots.
+pub fn format_events(events: &[rapier_contact_graph::Event], names: &Names) -> String {
+    let mut s = String::new();
+    for ev in events {
+        let name = |n: NodeId| names.0.get(&n).cloned().unwrap_or_else(|| format!("{n:?}"));
+        let b = ev.b.map(|b| format!(" {}", name(b))).unwrap_or_default();
+        let tick = if ev.tick > 0 {
+            format!(" #{}", ev.tick)
+        } else {
+            String::new()
+        };
+        s += &format!("{:>4} {:?} {}{}{}\n", ev.step, ev.kind, name(ev.a), b, tick);
+    }
+    s
+}
+
+impl Names {
+    /// Names a node explicitly.
+    pub fn set(&mut self, n: NodeId, name: &str) {
+        self.0.insert(n, name.to_string());
+    }
 }

@@ -1,0 +1,194 @@
+//! A logging subscriber that checks the listener contract of `events` as it logs
+//! (Jolt's contract-checking contact listener, in spirit).
+#![allow(dead_code)]
+
+use std::collections::{HashMap, HashSet};
+
+use crossbeam_channel::Receiver;
+use rapier_contact_graph::{ContactLayer, Event, EventKind, Filter, NodeId};
+
+/// Receives every event and checks the contract; panics on the first violation.
+pub struct ContractLog {
+    rx: Receiver<Event>,
+    pub events: Vec<Event>,
+    prox: HashSet<(NodeId, NodeId)>,
+    touch: HashSet<(NodeId, NodeId)>,
+    inside: HashSet<(NodeId, NodeId)>,
+    asleep: HashMap<NodeId, bool>,
+    ticks: HashMap<NodeId, u64>,
+    last_step: u64,
+    /// Pairs no event may name (excluded by a rule).
+    pub excluded: HashSet<(NodeId, NodeId)>,
+    /// Nodes that are passive: only ends may name them.
+    pub passive: HashSet<NodeId>,
+}
+
+fn key(a: NodeId, b: Option<NodeId>) -> (NodeId, NodeId) {
+    let b = b.expect("pair event without b");
+    if a.index() <= b.index() {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
+impl ContractLog {
+    pub fn attach(layer: &mut ContactLayer) -> Self {
+        Self {
+            rx: layer.subscribe(Filter::all()),
+            events: Vec::new(),
+            prox: HashSet::new(),
+            touch: HashSet::new(),
+            inside: HashSet::new(),
+            asleep: HashMap::new(),
+            ticks: HashMap::new(),
+            last_step: 0,
+            excluded: HashSet::new(),
+            passive: HashSet::new(),
+        }
+    }
+
+    /// Drains the channel, checking each event; returns how many arrived.
+    pub fn drain(&mut self) -> usize {
+        let mut n = 0;
+        while let Ok(ev) = self.rx.try_recv() {
+            self.check(&ev);
+            self.events.push(ev);
+            n += 1;
+        }
+        n
+    }
+
+    fn check(&mut self, ev: &Event) {
+        use EventKind::*;
+        assert!(ev.step >= self.last_step, "steps go backwards: {ev:?}");
+        self.last_step = ev.step;
+        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        for n in [Some(ev.a), ev.b].into_iter().flatten() {
+            assert!(
+                is_end || !self.passive.contains(&n),
+                "event naming passive node {n:?}: {ev:?}"
+            );
+        }
+        match ev.kind {
+            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
+            | TouchEnd => {
+                let k = key(ev.a, ev.b);
+                assert_eq!(k, (ev.a, ev.b.unwrap()), "pair events name A first: {ev:?}");
+                assert!(
+                    !self.excluded.contains(&k),
+                    "event for an excluded pair: {ev:?}"
+                );
+                match ev.kind {
+                    ProximityBegin => assert!(self.prox.insert(k), "Begin twice: {ev:?}"),
+                    ProximityPersist => {
+                        assert!(self.prox.contains(&k), "Persist without Begin: {ev:?}")
+                    }
+                    ProximityEnd => {
+                        assert!(
+                            !self.touch.contains(&k),
+                            "proximity ends inside a touch: {ev:?}"
+                        );
+                        assert!(self.prox.remove(&k), "End without Begin: {ev:?}")
+                    }
+                    TouchBegin => {
+                        assert!(self.prox.contains(&k), "touch outside proximity: {ev:?}");
+                        assert!(self.touch.insert(k), "TouchBegin twice: {ev:?}")
+                    }
+                    TouchPersist => assert!(
+                        self.touch.contains(&k),
+                        "TouchPersist without Begin: {ev:?}"
+                    ),
+                    TouchEnd => assert!(self.touch.remove(&k), "TouchEnd without Begin: {ev:?}"),
+                    _ => unreachable!(),
+                }
+            }
+            TriggerEnter => assert!(
+                self.inside.insert((ev.a, ev.b.unwrap())),
+                "Enter twice: {ev:?}"
+            ),
+            TriggerExit => assert!(
+                self.inside.remove(&(ev.a, ev.b.unwrap())),
+                "Exit without Enter: {ev:?}"
+            ),
+            TimerTick => {
+                let last = self.ticks.entry(ev.a).or_insert(0);
+                assert_eq!(ev.tick, *last + 1, "ticks skip: {ev:?}");
+                *last = ev.tick;
+            }
+            FellAsleep => {
+                let was = self.asleep.insert(ev.a, true);
+                assert_ne!(was, Some(true), "FellAsleep twice: {ev:?}");
+            }
+            WokeUp => {
+                let was = self.asleep.insert(ev.a, false);
+                assert_ne!(was, Some(false), "WokeUp twice: {ev:?}");
+            }
+        }
+    }
+
+    /// Pairs currently in proximity per the stream.
+    pub fn open_proximity(&self) -> usize {
+        self.prox.len()
+    }
+    /// Pairs currently touching per the stream.
+    pub fn open_touch(&self) -> usize {
+        self.touch.len()
+    }
+    /// Bodies currently inside triggers per the stream.
+    pub fn open_inside(&self) -> usize {
+        self.inside.len()
+    }
+
+    /// Checks the stream's open spans against the graph: every open proximity span is
+    /// a proximate edge, every open touch a touching edge, every open trigger stay a
+    /// geometric edge, and the other way round.
+    pub fn agrees_with(&self, layer: &ContactLayer) {
+        use rapier_contact_graph::EdgeKind;
+        let g = layer.graph();
+        let mut prox = HashSet::new();
+        let mut touch = HashSet::new();
+        let mut inside = HashSet::new();
+        for (_, e) in g.edges() {
+            match e.kind() {
+                EdgeKind::Physical => {
+                    if e.is_proximate() {
+                        prox.insert((e.a(), e.b()));
+                    }
+                    if e.is_touching() {
+                        touch.insert((e.a(), e.b()));
+                    }
+                }
+                EdgeKind::Geometric => {
+                    let (t, b) = if g.node(e.a()).unwrap().kind()
+                        == rapier_contact_graph::NodeKind::Trigger
+                    {
+                        (e.a(), e.b())
+                    } else {
+                        (e.b(), e.a())
+                    };
+                    inside.insert((t, b));
+                }
+                _ => {}
+            }
+        }
+        assert_eq!(
+            prox,
+            self.prox,
+            "proximity spans vs graph at step {}",
+            layer.current_step()
+        );
+        assert_eq!(
+            touch,
+            self.touch,
+            "touch spans vs graph at step {}",
+            layer.current_step()
+        );
+        assert_eq!(
+            inside,
+            self.inside,
+            "trigger spans vs graph at step {}",
+            layer.current_step()
+        );
+    }
+}
