@@ -29,7 +29,9 @@ use crate::coherence::{Coherence, RemovedNode, Screen, WalkCounters};
 use crate::events::{Event, EventBus, Filter, SubscriptionId};
 use crate::graph::{Category, ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::{GroupStats, Groups};
-use crate::logic::{Logic, Rule, RuleHooks, WorldMut};
+use crate::hooks::LayerHooks;
+use crate::logic::{Logic, Rule, WorldMut};
+use crate::speedups::{SpeedUpState, SpeedUps};
 use crate::{Error, Result, WorldView};
 
 /// Statistics of one step.
@@ -70,6 +72,7 @@ pub struct ContactLayer {
     colliders_seen: usize,
     ticks: Vec<(NodeId, u64)>,
     events: Vec<Event>,
+    speedups: Option<SpeedUpState>,
 }
 
 impl Default for ContactLayer {
@@ -92,6 +95,7 @@ impl ContactLayer {
             colliders_seen: 0,
             ticks: Vec::new(),
             events: Vec::new(),
+            speedups: None,
         }
     }
 
@@ -111,15 +115,49 @@ impl ContactLayer {
     /// passive bodies, trigger collision types). [`Self::step`] calls it; users who
     /// step Rapier themselves call it before each step and pass [`Self::hooks`] to
     /// Rapier. O(1) when nothing is queued.
-    pub fn pre_step(&mut self, world: WorldMut) {
+    pub fn pre_step(&mut self, mut world: WorldMut) {
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
-        self.logic.pre_step(&self.graph, world, colliders_changed);
+        self.logic
+            .pre_step(&self.graph, &mut world, colliders_changed);
+        if let Some(s) = &mut self.speedups {
+            s.pre_step(&mut world, &mut self.logic.hooks.mods);
+        }
+    }
+
+    /// Switches the paper's speed-ups on (`Some`) or off (`None`), at any time. The
+    /// configuration is validated first: invalid parameters are an error and change
+    /// nothing. See [`crate::speedups`] for what each switch does to the world.
+    ///
+    /// Switching them off releases fixated bodies and restores the hook flags and
+    /// damping the speed-ups changed, in the next pre-step; Rapier's sleep thresholds
+    /// go back to Rapier's defaults.
+    pub fn set_speedups(&mut self, config: Option<SpeedUps>) -> Result<()> {
+        match config {
+            Some(c) => {
+                c.validate()?;
+                match &mut self.speedups {
+                    Some(s) => s.reconfigure(c),
+                    None => self.speedups = Some(SpeedUpState::new(c)),
+                }
+            }
+            None => {
+                if let Some(s) = &mut self.speedups {
+                    s.detach();
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The speed-ups' state, if they are on.
+    pub fn speedups(&self) -> Option<&SpeedUpState> {
+        self.speedups.as_ref().filter(|s| !s.is_detached())
     }
 
     /// The physics hooks to give Rapier when stepping it yourself. They act only on
     /// colliders flagged for rules.
-    pub fn hooks(&self) -> &RuleHooks {
+    pub fn hooks(&self) -> &LayerHooks {
         &self.logic.hooks
     }
 
@@ -151,10 +189,52 @@ impl ContactLayer {
             }
             self.groups.disturb(&mut self.graph, n);
         }
+        self.coherence
+            .take_dropped(&mut self.graph, &mut self.groups);
 
-        self.groups.rebuild(&mut self.graph, step, &|g, n| {
-            g.node(n).is_some_and(|n| n.kind().is_insulator())
-        });
+        if let Some(s) = &mut self.speedups {
+            s.track(
+                &self.graph,
+                &view,
+                self.coherence.refreshed_nodes(),
+                self.coherence.sleep_changes(),
+                &mut self.logic.hooks.mods,
+            );
+        }
+        let (grouping, subgroup) = match &self.speedups {
+            Some(s) if !s.is_detached() => (s.config().groups, s.config().subgroup),
+            _ => (true, false),
+        };
+        if !grouping && !self.groups.is_empty() {
+            // Groups switched off: forget them (once).
+            let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
+            for id in ids {
+                self.groups.dissolve(&mut self.graph, id);
+            }
+            self.groups.clear_roots();
+        }
+        if grouping {
+            let speedups = self.speedups.as_ref();
+            self.groups.rebuild(&mut self.graph, step, &|g, n| {
+                let Some(node) = g.node(n) else { return false };
+                node.kind().is_insulator()
+                    || (subgroup
+                        && node
+                            .body()
+                            .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
+            });
+        }
+        if let Some(s) = &mut self.speedups {
+            s.decide(
+                &self.graph,
+                &view,
+                &self.groups,
+                self.coherence.refreshed_nodes(),
+            );
+            if s.is_detached() && s.is_idle() {
+                self.speedups = None;
+            }
+        }
 
         self.ticks.clear();
         if !self.logic.timers.is_empty() {
@@ -562,6 +642,28 @@ impl ContactLayer {
     /// proximate edge without its Rapier pair. O(nodes + edges + Rapier pairs).
     pub fn validate(&self, world: &PhysicsWorld) -> Result<()> {
         crate::validate::validate_layer(self, &WorldView::from(world))
+    }
+
+    /// Whether groups are computed (the `groups` switch of the speed-ups; on without
+    /// speed-ups).
+    pub fn grouping(&self) -> bool {
+        match self.speedups() {
+            Some(s) => s.config().groups,
+            None => true,
+        }
+    }
+
+    /// Whether a node insulates groups: fixed and scripted bodies, and sleepy bodies
+    /// under subgrouping.
+    pub fn insulates(&self, n: NodeId) -> bool {
+        let Some(node) = self.graph.node(n) else {
+            return false;
+        };
+        node.kind().is_insulator()
+            || match self.speedups() {
+                Some(s) if s.config().subgroup => node.body().is_some_and(|h| s.is_sleepy(h)),
+                _ => false,
+            }
     }
 
     /// The rules in force (for validation).

@@ -37,9 +37,14 @@ pub mod events;
 pub mod export;
 pub mod graph;
 pub mod groups;
+pub mod hooks;
 mod layer;
 pub mod logic;
+pub mod measure;
+pub mod monitor;
+pub mod report;
 pub mod scenes;
+pub mod speedups;
 mod validate;
 mod world;
 

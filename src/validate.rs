@@ -167,7 +167,14 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         }
     }
 
-    // Groups.
+    // Groups (when computed).
+    if !layer.grouping() {
+        return if layer.groups().is_empty() {
+            Ok(())
+        } else {
+            fail("groups off but groups kept".into())
+        };
+    }
     let groups = layer.groups();
     for (gid, g) in groups.iter() {
         for &n in &g.bodies {
@@ -176,6 +183,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
                 .map_err(|_| Error::Invariant(format!("group {gid:?} holds dead node {n:?}")))?;
             if node.kind().is_insulator() {
                 return fail(format!("group {gid:?} holds insulator {n:?}"));
+            }
+            if node.is_passive() {
+                return fail(format!("group {gid:?} holds passive {n:?}"));
             }
             if node.group() != Some(gid) {
                 return fail(format!(
@@ -187,7 +197,12 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
     }
     for (id, node) in graph.nodes() {
         let simulated = node.kind().is_simulated();
-        if simulated && node.is_awake() && node.group().is_none() {
+        if simulated
+            && node.is_awake()
+            && !node.is_passive()
+            && node.group().is_none()
+            && !layer.insulates(id)
+        {
             return fail(format!("awake body {id:?} has no group"));
         }
         if let Some(gid) = node.group() {
@@ -213,7 +228,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         let (Some(a), Some(b)) = (graph.node(e.a()), graph.node(e.b())) else {
             continue;
         };
-        if a.kind().is_insulator() || b.kind().is_insulator() {
+        if layer.insulates(e.a()) || layer.insulates(e.b()) || a.is_passive() || b.is_passive() {
             continue;
         }
         if a.group().is_some() && a.group() != b.group() {

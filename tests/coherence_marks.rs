@@ -3,6 +3,7 @@
 mod common;
 
 use rapier3d::prelude::*;
+use rapier_contact_graph::coherence::OBSOLETE_EVERY;
 use rapier_contact_graph::{ContactLayer, EdgeKind, Transition};
 
 /// A dynamic ball flying past a fixed ball without gravity: it approaches, touches,
@@ -58,10 +59,13 @@ fn a_fly_by_goes_through_every_mark_in_order_and_the_edge_goes_when_obsolete() {
                         touch_log.push(m);
                     }
                 }
-                // While the edge lives, the AABB gap is at most twice the largest edge.
+                // While the edge lives, the AABB gap is at most twice the largest edge,
+                // plus the distance covered while the test waits its turn (it runs
+                // every OBSOLETE_EVERY steps; the ball moves 0.05 per step).
                 let x = world.bodies[ball].translation().x;
                 let gap = (x.abs() - 1.0).max(0.0);
-                assert!(gap <= 2.0 + 0.06, "edge kept at gap {gap}");
+                let slack = OBSOLETE_EVERY as f32 * 0.05 + 0.06;
+                assert!(gap <= 2.0 + slack, "edge kept at gap {gap}");
             }
             None => {
                 if removed_at.is_none() && !prox_log.is_empty() {

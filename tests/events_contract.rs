@@ -4,7 +4,6 @@
 mod common;
 
 use common::contract::ContractLog;
-use rapier3d::prelude::*;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
 use rapier_contact_graph::{scenes, ContactLayer, Error};
 

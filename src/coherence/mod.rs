@@ -38,6 +38,9 @@ use crate::graph::{ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeS
 use crate::groups::Groups;
 use crate::WorldView;
 
+/// A lingering (vanished) edge is tested for obsolescence every this many steps.
+pub const OBSOLETE_EVERY: u64 = 16;
+
 /// A node removed because its Rapier object left the world.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RemovedNode {
@@ -173,6 +176,21 @@ impl Coherence {
         self.force_full_sync = true;
     }
 
+    /// Reports the edges a kind change dropped (ended, with `Vanished` marks) and
+    /// regroups their ends.
+    pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
+        let step = self.step;
+        for mut e in std::mem::take(&mut graph.dropped) {
+            groups.disturb(graph, e.a);
+            groups.disturb(graph, e.b);
+            if e.cache.proximity {
+                e.cache.begin_update(true);
+                e.updated_step = step;
+                self.removed_edges.push(e);
+            }
+        }
+    }
+
     fn remove_node(&mut self, graph: &mut ContactGraph, groups: &mut Groups, id: NodeId) {
         let Some(node) = graph.node(id) else { return };
         let record = RemovedNode {
@@ -231,6 +249,16 @@ impl Coherence {
         }
         self.walk.clear();
         for h in view.islands.active_bodies() {
+            // Rapier keeps a body turned fixed in its active set: once the graph has it
+            // as fixed, there is nothing to refresh (it does not move).
+            if view.bodies.get(h).is_some_and(|b| b.is_fixed())
+                && graph
+                    .node_of_body(h)
+                    .and_then(|n| graph.node(n))
+                    .is_some_and(|n| n.kind == NodeKind::Fixed && n.seen_step != 0)
+            {
+                continue;
+            }
             let Some(id) = nodes::ensure_body_node(graph, view, h, &mut self.created) else {
                 continue;
             };
@@ -260,6 +288,7 @@ impl Coherence {
                 self.awake_prev.push(id);
             }
         }
+        self.take_dropped(graph, groups);
         // Nodes created this step (e.g. a new fixed body) have no pairs walked from
         // them, but their pairs with awake bodies are walked from the other side.
         for i in 0..self.created.len() {
@@ -292,8 +321,9 @@ impl Coherence {
         // read from their side; then the refreshed and new bodies' colliders meet the
         // other triggers.
         self.triggers.clear();
+        let has_triggers = graph.count_of_kind(NodeKind::Trigger) > 0;
         let mut sensors = Vec::new();
-        for &me in &walk {
+        for &me in walk.iter().filter(|_| has_triggers) {
             if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
                 if let Some(rb) = view.bodies.get(h) {
                     for &c in rb.colliders() {
@@ -318,8 +348,10 @@ impl Coherence {
         for t in to_read {
             self.walk_trigger(graph, view, screen, t);
         }
-        for &me in walk.iter().chain(created_now.iter()) {
-            self.walk_body_sensors(graph, view, screen, me);
+        if has_triggers {
+            for &me in walk.iter().chain(created_now.iter()) {
+                self.walk_body_sensors(graph, view, screen, me);
+            }
         }
         for &me in &walk {
             groups.disturb(graph, me);
@@ -328,7 +360,30 @@ impl Coherence {
         // 3. Vanished edges and obsolete removal, for the refreshed bodies and the
         // triggers they carry.
         let triggers = std::mem::take(&mut self.triggers);
-        for &me in walk.iter().chain(triggers.iter()) {
+        if scan {
+            // One sequential pass over the edge arena instead of each refreshed node's
+            // edges (random access, every edge twice): the scan already cost O(pairs).
+            self.dead.clear();
+            for (eid, e) in graph.edges() {
+                let dynamic = matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric);
+                if !dynamic || e.walk_stamp == step {
+                    continue;
+                }
+                let refreshed = |n| {
+                    graph
+                        .node(n)
+                        .is_some_and(|n: &crate::Node| n.seen_step == step)
+                };
+                if refreshed(e.a) || refreshed(e.b) {
+                    self.dead.push(eid);
+                }
+            }
+            for i in 0..self.dead.len() {
+                let eid = self.dead[i];
+                self.retire(graph, groups, view, eid);
+            }
+        }
+        for &me in walk.iter().filter(|_| !scan).chain(triggers.iter()) {
             self.dead.clear();
             let Some(node) = graph.node(me) else { continue };
             for &eid in &node.edges {
@@ -603,6 +658,12 @@ impl Coherence {
                 groups.disturb(graph, a);
                 groups.disturb(graph, b);
             }
+            return;
+        }
+        // The obsolete test recomputes two AABBs; a lingering edge is tested every
+        // `OBSOLETE_EVERY` steps (staggered by slot), which delays removal by at most
+        // that many steps and keeps a dense pile's many near-miss edges cheap.
+        if (step + eid.index() as u64) % OBSOLETE_EVERY != 0 {
             return;
         }
         let sa = graph.node(a).map(|n| n.source);

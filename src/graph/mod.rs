@@ -56,6 +56,8 @@ pub struct ContactGraph {
     kind_counts: [usize; 9],
     /// The step nodes created now are born in (set by the layer).
     pub(crate) clock: u64,
+    /// Edges dropped by kind changes, waiting to be reported by the layer.
+    pub(crate) dropped: Vec<Edge>,
 }
 
 fn kind_slot(kind: NodeKind) -> usize {
@@ -324,6 +326,9 @@ impl ContactGraph {
         id
     }
 
+    /// Changes a node's kind; edges the new kind does not allow (Table 2: a body turned
+    /// fixed keeps no physical edge with another fixed body) are removed and kept in
+    /// `dropped` for the layer to report.
     pub(crate) fn set_kind(&mut self, id: NodeId, kind: NodeKind) {
         let old = match self.node_mut(id) {
             Some(n) => std::mem::replace(&mut n.kind, kind),
@@ -331,6 +336,22 @@ impl ContactGraph {
         };
         self.kind_counts[kind_slot(old)] -= 1;
         self.kind_counts[kind_slot(kind)] += 1;
+        let incident = self.node(id).map(|n| n.edges.clone()).unwrap_or_default();
+        for eid in incident {
+            let Some(e) = self.edge(eid) else { continue };
+            let other = if e.a == id { e.b } else { e.a };
+            let Some(ok) = self
+                .node(other)
+                .map(|o| validate::edge_allowed(e.kind, kind, o.kind))
+            else {
+                continue;
+            };
+            if !ok {
+                if let Some(e) = self.remove_edge(eid) {
+                    self.dropped.push(e);
+                }
+            }
+        }
     }
 
     /// Removes a node and its edges; the removed edges are returned (in the node's

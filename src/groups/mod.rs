@@ -191,6 +191,11 @@ impl Groups {
         }
     }
 
+    /// Forgets the queued roots (groups switched off).
+    pub(crate) fn clear_roots(&mut self) {
+        self.roots.clear();
+    }
+
     /// Queues a node as a traversal root, dissolving the group it is in.
     pub(crate) fn disturb(&mut self, graph: &mut ContactGraph, n: NodeId) {
         match graph.node(n).and_then(|node| node.group) {

@@ -22,12 +22,12 @@ pub(crate) mod timers;
 use std::collections::{BTreeMap, HashMap};
 
 use rapier3d::prelude::{
-    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, IslandManager, PhysicsWorld,
-    RigidBodyHandle, RigidBodySet,
+    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, IntegrationParameters,
+    IslandManager, PhysicsWorld, RigidBodyHandle, RigidBodySet,
 };
 
 pub use containers::ContainerSource;
-pub use rules::{IgnorePredicate, Rule, RuleHooks, RuleTable};
+pub use rules::{IgnorePredicate, Rule, RuleTable};
 
 use crate::graph::{ContactGraph, NodeId, NodeSource};
 use rules::Target;
@@ -40,6 +40,8 @@ pub struct WorldMut<'a> {
     pub colliders: &'a mut ColliderSet,
     /// Islands (to wake the bodies a rule change concerns).
     pub islands: &'a mut IslandManager,
+    /// Integration parameters (solver iterations, caching: the speed-ups).
+    pub integration_parameters: &'a mut IntegrationParameters,
 }
 
 impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
@@ -48,6 +50,7 @@ impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
             bodies: &mut w.bodies,
             colliders: &mut w.colliders,
             islands: &mut w.islands,
+            integration_parameters: &mut w.integration_parameters,
         }
     }
 }
@@ -60,7 +63,7 @@ const RULE_HOOKS: ActiveHooks =
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Logic {
     pub(crate) rules: BTreeMap<NodeId, Rule>,
-    pub(crate) hooks: RuleHooks,
+    pub(crate) hooks: crate::hooks::LayerHooks,
     rules_dirty: bool,
     /// Colliders we flagged, with the flags they had before.
     flagged: HashMap<ColliderHandle, ActiveHooks>,
@@ -123,7 +126,7 @@ impl Logic {
                 }
             }
         }
-        self.hooks.table.rebuild(
+        self.hooks.rules.rebuild(
             self.rules.iter().map(|(n, r)| (*n, r.clone())),
             targets.into_iter(),
         );
@@ -162,7 +165,7 @@ impl Logic {
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
-        world: WorldMut,
+        world: &mut WorldMut,
         colliders_changed: bool,
     ) {
         if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) {
@@ -200,7 +203,7 @@ impl Logic {
             wake.dedup();
             for h in wake {
                 if world.bodies.contains(h) {
-                    world.islands.wake_up(world.bodies, h, true);
+                    world.islands.wake_up(&mut *world.bodies, h, true);
                 }
             }
         }

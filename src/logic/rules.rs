@@ -15,8 +15,8 @@ use std::collections::HashMap;
 use std::fmt;
 use std::sync::Arc;
 
-use rapier3d::pipeline::{PairFilterContext, PhysicsHooks};
-use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, SolverFlags};
+use rapier3d::pipeline::PairFilterContext;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{NodeId, PairBuildHasher};
 
@@ -203,32 +203,10 @@ pub(crate) enum Target {
     Collider(ColliderHandle),
 }
 
-/// The physics hooks of the layer: the rules, and nothing else unless a speed-up asks.
-/// Pass them to Rapier when stepping yourself (`layer.hooks()`), or let
-/// [`crate::ContactLayer::step`] do it.
-#[derive(Clone, Debug, Default)]
-pub struct RuleHooks {
-    pub(crate) table: RuleTable,
-}
-
-impl RuleHooks {
-    /// The rules in force.
-    pub fn table(&self) -> &RuleTable {
-        &self.table
-    }
-}
-
-impl PhysicsHooks for RuleHooks {
-    fn filter_contact_pair(&self, ctx: &PairFilterContext) -> Option<SolverFlags> {
-        if self.table.ignores_ctx(ctx) {
-            None
-        } else {
-            Some(SolverFlags::default())
-        }
-    }
-
-    fn filter_intersection_pair(&self, ctx: &PairFilterContext) -> bool {
-        !self.table.ignores_ctx(ctx)
+impl RuleTable {
+    /// Whether the pair of a Rapier filter context is ignored by a rule.
+    pub(crate) fn ignores_pair(&self, ctx: &PairFilterContext) -> bool {
+        !self.rules.is_empty() && self.ignores_ctx(ctx)
     }
 }
 

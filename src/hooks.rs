@@ -1,0 +1,102 @@
+//! The physics hooks the layer gives Rapier: rules (pair filters) and the contact
+//! speed-ups (reduce, zero) — one object, because Rapier takes one.
+//!
+//! Rapier calls a hook only for pairs where one collider carries the hook's
+//! `ActiveHooks` flag, and a flagged pair is never contact-recycled, so flags go only
+//! where a feature needs them: rule members' colliders for the filters, and for the
+//! contact modifications the colliders the speed-up concerns (all dynamic colliders
+//! for reduce; sleepy bodies' colliders for zero). Without rules and speed-ups no flag
+//! is set, the hooks are never called and results are bit-identical to `&()`.
+
+use rapier3d::pipeline::{ContactModificationContext, PairFilterContext, PhysicsHooks};
+use rapier3d::prelude::{RigidBodyHandle, SolverFlags};
+
+use crate::logic::RuleTable;
+
+/// The contact modifications of the speed-ups, read by the hooks during a step.
+#[derive(Clone, Debug, Default)]
+pub struct ContactMods {
+    /// Keep only the deepest solver contact of pairs penetrating deeper than this
+    /// (metres); `None`: off.
+    pub reduce_depth: Option<f32>,
+    /// Zero the restitution of pairs with a sleepy body.
+    pub zero: bool,
+    /// Sleepy bodies by handle index (with generation), for `zero`.
+    pub(crate) sleepy: Vec<Option<u32>>,
+}
+
+impl ContactMods {
+    pub(crate) fn set_sleepy(&mut self, h: RigidBodyHandle, sleepy: bool) {
+        let (i, g) = h.into_raw_parts();
+        let i = i as usize;
+        if self.sleepy.len() <= i {
+            self.sleepy.resize(i + 1, None);
+        }
+        self.sleepy[i] = sleepy.then_some(g);
+    }
+
+    /// Whether a body is marked sleepy for the hooks. O(1).
+    pub fn is_sleepy(&self, h: RigidBodyHandle) -> bool {
+        let (i, g) = h.into_raw_parts();
+        self.sleepy.get(i as usize).copied().flatten() == Some(g)
+    }
+}
+
+/// The layer's physics hooks. Pass them to Rapier when stepping it yourself
+/// (`layer.hooks()`), or let [`crate::ContactLayer::step`] do it.
+#[derive(Clone, Debug, Default)]
+pub struct LayerHooks {
+    pub(crate) rules: RuleTable,
+    pub(crate) mods: ContactMods,
+}
+
+impl LayerHooks {
+    /// The rules in force.
+    pub fn table(&self) -> &RuleTable {
+        &self.rules
+    }
+    /// The contact modifications in force.
+    pub fn mods(&self) -> &ContactMods {
+        &self.mods
+    }
+}
+
+impl PhysicsHooks for LayerHooks {
+    fn filter_contact_pair(&self, ctx: &PairFilterContext) -> Option<SolverFlags> {
+        if self.rules.ignores_pair(ctx) {
+            None
+        } else {
+            Some(SolverFlags::default())
+        }
+    }
+
+    fn filter_intersection_pair(&self, ctx: &PairFilterContext) -> bool {
+        !self.rules.ignores_pair(ctx)
+    }
+
+    fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
+        let zero = self.mods.zero
+            && (ctx.rigid_body1.is_some_and(|h| self.mods.is_sleepy(h))
+                || ctx.rigid_body2.is_some_and(|h| self.mods.is_sleepy(h)));
+        let reduce = self.mods.reduce_depth;
+        let Some(m) = ctx.rigid_mut() else { return };
+        if zero {
+            *m.restitution = 0.0;
+        }
+        if let Some(depth) = reduce {
+            if m.solver_contacts.len() > 1 {
+                // Keep the single deepest contact of a deeply penetrating pair (§7).
+                let mut deepest = 0;
+                for (i, c) in m.solver_contacts.iter().enumerate() {
+                    if c.dist < m.solver_contacts[deepest].dist {
+                        deepest = i;
+                    }
+                }
+                if -m.solver_contacts[deepest].dist > depth {
+                    m.solver_contacts.swap(0, deepest);
+                    m.solver_contacts.truncate(1);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,150 @@
+//! Hanging sleepers (paper Fig. 17): held bodies without support.
+//!
+//! Which bodies are looked at: the bodies the analysis refreshed (awake now or at the
+//! step before: a fixated body is awake in Rapier, and a body is refreshed in the step
+//! it falls asleep), the bodies created in the step (one may be created asleep), and
+//! the bodies already being timed. A sleeping body that is not being timed was
+//! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
+//! which it does when something touching it is removed — so it needs no look.
+//!
+//! Support is judged by the contact normals, which the layer keeps only with its
+//! contact details on (the default); with them off, any touching contact counts as
+//! support, so the detector never raises a false alarm but misses a body held against
+//! a wall.
+
+use std::collections::HashMap;
+
+use rapier3d::math::{Real, Vector};
+use rapier3d::prelude::RigidBodyHandle;
+
+use super::{simulated, Ctx, MonitorConfig, Peaks, Violation, ViolationKind};
+use crate::graph::NodeId;
+
+/// A held, unsupported body being timed.
+#[derive(Clone, Copy, Debug)]
+struct Timed {
+    seconds: Real,
+    reported: bool,
+    /// The layer step of its last look (a body is looked at once per check).
+    looked: u64,
+}
+
+#[derive(Debug, Default)]
+pub(crate) struct Hanging {
+    timed: HashMap<RigidBodyHandle, Timed>,
+    /// Scratch: the timed bodies not refreshed in this step.
+    rest: Vec<RigidBodyHandle>,
+}
+
+impl Hanging {
+    pub(crate) fn forget(&mut self, h: RigidBodyHandle) {
+        self.timed.remove(&h);
+    }
+
+    pub(crate) fn timed(&self) -> impl Iterator<Item = (RigidBodyHandle, Real)> + '_ {
+        self.timed.iter().map(|(h, t)| (*h, t.seconds))
+    }
+
+    pub(crate) fn check(
+        &mut self,
+        ctx: &Ctx,
+        config: &MonitorConfig,
+        held: &dyn Fn(RigidBodyHandle) -> bool,
+        out: &mut Vec<Violation>,
+        peaks: &mut Peaks,
+    ) {
+        let g = ctx.view.gravity.length();
+        if !g.is_finite() || g <= 0.0 {
+            // Without gravity nothing hangs.
+            self.timed.clear();
+            return;
+        }
+        let up = -ctx.view.gravity / g;
+        let coherence = ctx.layer.coherence();
+        for &n in coherence
+            .refreshed_nodes()
+            .iter()
+            .chain(coherence.created_nodes())
+        {
+            if let Some(h) = simulated(ctx.layer, n) {
+                self.look(ctx, config, held, up, h, Some(n), out, peaks);
+            }
+        }
+        self.rest.clear();
+        self.rest.extend(
+            self.timed
+                .iter()
+                .filter(|(_, t)| t.looked != ctx.step)
+                .map(|(h, _)| *h),
+        );
+        for i in 0..self.rest.len() {
+            let h = self.rest[i];
+            let n = ctx.layer.graph().node_of_body(h);
+            self.look(ctx, config, held, up, h, n, out, peaks);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn look(
+        &mut self,
+        ctx: &Ctx,
+        config: &MonitorConfig,
+        held: &dyn Fn(RigidBodyHandle) -> bool,
+        up: Vector,
+        h: RigidBodyHandle,
+        n: Option<NodeId>,
+        out: &mut Vec<Violation>,
+        peaks: &mut Peaks,
+    ) {
+        if self.timed.get(&h).is_some_and(|t| t.looked == ctx.step) {
+            // Looked at already: in this check (refreshed and created), or in an
+            // earlier check of the same step (no time passed since).
+            return;
+        }
+        let graph = ctx.layer.graph();
+        let (Some(n), Some(rb)) = (n, ctx.view.bodies.get(h)) else {
+            self.timed.remove(&h);
+            return;
+        };
+        let simulated = graph.node(n).is_some_and(|node| node.kind().is_simulated());
+        let is_held = simulated && rb.is_enabled() && (rb.is_sleeping() || held(h));
+        // Without the layer's contact details there are no normals to judge support
+        // by; then any touching contact counts (no false alarms).
+        let supported = || {
+            if ctx.layer.coherence().contact_details() {
+                graph
+                    .supports_of(n, up, config.min_support_cos)
+                    .next()
+                    .is_some()
+            } else {
+                graph.touching(n).next().is_some()
+            }
+        };
+        if !is_held || supported() {
+            self.timed.remove(&h);
+            return;
+        }
+        let t = self.timed.entry(h).or_insert(Timed {
+            seconds: 0.0,
+            reported: false,
+            looked: u64::MAX,
+        });
+        t.looked = ctx.step;
+        if ctx.fresh {
+            t.seconds += ctx.view.dt;
+        }
+        if config.hang_time > 0.0 {
+            peaks.hang = peaks.hang.max(t.seconds / config.hang_time);
+        }
+        if t.seconds > config.hang_time && !t.reported {
+            t.reported = true;
+            out.push(Violation {
+                step: ctx.step,
+                kind: ViolationKind::HangingSleeper,
+                body: h,
+                node: Some(n),
+                value: t.seconds,
+            });
+        }
+    }
+}

@@ -1,0 +1,238 @@
+//! The switches of the paper's §7 and their parameters (DESIGN §4).
+
+use std::fmt;
+
+use crate::{Error, Result};
+
+/// The speed-up switches and their parameters. Every switch is independent.
+///
+/// Units: energies per unit mass in J/kg (m²/s²), depths in metres, damping in 1/s,
+/// times in steps.
+///
+/// # Example
+/// ```
+/// use rapier_contact_graph::speedups::SpeedUps;
+/// let paper_best = SpeedUps { cache: true, zero: true, damp: true, subgroup: true, fixate: true, ..SpeedUps::contact_graph() };
+/// paper_best.validate().unwrap();
+/// assert_eq!(paper_best.label(), "C--ZDSF");
+/// assert!(SpeedUps { tweak_iterations: 0, ..SpeedUps::none() }.validate().is_err());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpeedUps {
+    /// Contact groups by the paper's traversal drive sleeping and the statistics.
+    /// Motion: unchanged.
+    pub groups: bool,
+    /// The layer owns sleeping: a body is sleepy once its kinetic energy per unit
+    /// mass stayed below `sleepy_energy` for `sleepy_steps` steps; a group (a Rapier
+    /// island) sleeps when all its bodies are sleepy. Off: nothing ever sleeps.
+    pub sleepy: bool,
+    /// Rapier's contact recycling and warm start (the paper's cached contact points
+    /// and forces). Off: both off.
+    pub cache: bool,
+    /// Solve with `tweak_iterations` solver iterations instead of `iterations`.
+    pub tweak: bool,
+    /// Keep only the deepest solver contact of pairs penetrating deeper than
+    /// `reduce_depth`.
+    pub reduce: bool,
+    /// Restitution 0 for pairs with a sleepy body.
+    pub zero: bool,
+    /// Linear viscous damping `damping` on every dynamic body.
+    pub damp: bool,
+    /// Sleepy bodies insulate groups (the traversal treats them as fixed).
+    pub subgroup: bool,
+    /// Sleepy bodies are held immovable (inverse mass 0), and restored exactly when
+    /// released.
+    pub fixate: bool,
+
+    /// Kinetic energy per unit mass below which a body counts as at rest, J/kg.
+    /// Default 0.005 (a speed of 0.1 m/s).
+    pub sleepy_energy: f32,
+    /// Steps at rest before a body is sleepy. Default 20 (0.2 s at dt = 0.01).
+    pub sleepy_steps: u32,
+    /// Solver iterations without `tweak` (Rapier's `num_solver_iterations`).
+    /// Default 4, Rapier's default.
+    pub iterations: usize,
+    /// Solver iterations with `tweak`. Default 1.
+    pub tweak_iterations: usize,
+    /// Penetration depth above which `reduce` acts, metres. Default 0.005.
+    pub reduce_depth: f32,
+    /// Linear damping coefficient of `damp`, 1/s. Default 0.5.
+    pub damping: f32,
+    /// A fixated body is released when a touching body that is not sleepy moves
+    /// faster than this, m/s. Default 0.5.
+    pub release_speed: f32,
+}
+
+impl Default for SpeedUps {
+    /// The contact graph configuration (groups + sleepy), as [`Self::contact_graph`].
+    fn default() -> Self {
+        Self::contact_graph()
+    }
+}
+
+impl SpeedUps {
+    /// Brute force: no groups, no sleep, no caching; Rapier's default iterations.
+    pub fn none() -> Self {
+        Self {
+            groups: false,
+            sleepy: false,
+            cache: false,
+            tweak: false,
+            reduce: false,
+            zero: false,
+            damp: false,
+            subgroup: false,
+            fixate: false,
+            sleepy_energy: 0.005,
+            sleepy_steps: 20,
+            iterations: 4,
+            tweak_iterations: 1,
+            reduce_depth: 0.005,
+            damping: 0.5,
+            release_speed: 0.5,
+        }
+    }
+
+    /// The paper's "contact graph" configuration: groups and sleepy objects.
+    pub fn contact_graph() -> Self {
+        Self {
+            groups: true,
+            sleepy: true,
+            ..Self::none()
+        }
+    }
+
+    /// One of the 2^7 combinations of cache, tweak, reduce, zero, damp, subgroup and
+    /// fixate (bit 0 = cache … bit 6 = fixate), on top of the contact graph
+    /// configuration, as in the paper's Table 5.
+    pub fn combination(bits: u8) -> Self {
+        let on = |i: u8| bits & (1 << i) != 0;
+        Self {
+            cache: on(0),
+            tweak: on(1),
+            reduce: on(2),
+            zero: on(3),
+            damp: on(4),
+            subgroup: on(5),
+            fixate: on(6),
+            ..Self::contact_graph()
+        }
+    }
+
+    /// The seven combination switches as "CTRZDSF", with `-` for an off switch.
+    pub fn label(&self) -> String {
+        let flags = [
+            (self.cache, 'C'),
+            (self.tweak, 'T'),
+            (self.reduce, 'R'),
+            (self.zero, 'Z'),
+            (self.damp, 'D'),
+            (self.subgroup, 'S'),
+            (self.fixate, 'F'),
+        ];
+        flags
+            .iter()
+            .map(|&(on, c)| if on { c } else { '-' })
+            .collect()
+    }
+
+    /// Whether any switch needs the `modify_solver_contacts` hook.
+    pub fn modifies_contacts(&self) -> bool {
+        self.reduce || self.zero
+    }
+
+    /// Checks the parameters: finite, and in range. Called by the layer when the
+    /// configuration is set.
+    pub fn validate(&self) -> Result<()> {
+        fn bad(name: &'static str, reason: String) -> Result<()> {
+            Err(Error::InvalidParameter { name, reason })
+        }
+        let nonneg = |name: &'static str, v: f32| {
+            if !v.is_finite() || v < 0.0 {
+                bad(name, format!("must be finite and >= 0, got {v}"))
+            } else {
+                Ok(())
+            }
+        };
+        nonneg("sleepy_energy", self.sleepy_energy)?;
+        nonneg("reduce_depth", self.reduce_depth)?;
+        nonneg("damping", self.damping)?;
+        nonneg("release_speed", self.release_speed)?;
+        if self.sleepy_steps == 0 {
+            return bad("sleepy_steps", "must be at least 1".into());
+        }
+        if self.iterations == 0 {
+            return bad("iterations", "must be at least 1".into());
+        }
+        if self.tweak_iterations == 0 {
+            return bad("tweak_iterations", "must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for SpeedUps {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}{}{}",
+            if self.groups { "G" } else { "-" },
+            if self.sleepy { "S" } else { "-" },
+            self.label()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn combinations_cover_the_seven_switches() {
+        assert_eq!(SpeedUps::combination(0).label(), "-------");
+        assert_eq!(SpeedUps::combination(127).label(), "CTRZDSF");
+        assert_eq!(SpeedUps::combination(0b100_0001).label(), "C-----F");
+        assert!(SpeedUps::combination(5).groups && SpeedUps::combination(5).sleepy);
+    }
+
+    #[test]
+    fn invalid_parameters_are_refused() {
+        let base = SpeedUps::contact_graph();
+        for bad in [
+            SpeedUps {
+                sleepy_energy: -1.0,
+                ..base.clone()
+            },
+            SpeedUps {
+                sleepy_energy: f32::NAN,
+                ..base.clone()
+            },
+            SpeedUps {
+                sleepy_steps: 0,
+                ..base.clone()
+            },
+            SpeedUps {
+                iterations: 0,
+                ..base.clone()
+            },
+            SpeedUps {
+                tweak_iterations: 0,
+                ..base.clone()
+            },
+            SpeedUps {
+                reduce_depth: f32::INFINITY,
+                ..base.clone()
+            },
+            SpeedUps {
+                damping: -0.1,
+                ..base.clone()
+            },
+        ] {
+            assert!(
+                matches!(bad.validate(), Err(Error::InvalidParameter { .. })),
+                "{bad:?}"
+            );
+        }
+        base.validate().unwrap();
+    }
+}

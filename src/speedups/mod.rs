@@ -1,0 +1,606 @@
+//! The paper's speed-ups (§7) as switches on a stock Rapier world (DESIGN §4).
+//!
+//! # How each switch is realised
+//! - **groups**: the paper's traversal drives the sleep decision and the statistics.
+//! - **sleepy**: the layer owns sleeping. Each awake body's kinetic energy per unit
+//!   mass is tracked; after `sleepy_steps` steps under `sleepy_energy` the body is
+//!   *sleepy*. A contact group whose bodies are all sleepy is put to sleep — through
+//!   Rapier's own whole-island sleep: the layer makes the group's bodies sleep-eligible
+//!   (Rapier's activation thresholds), every other body never eligible, and Rapier
+//!   puts an island to sleep exactly when all its bodies are eligible. Rapier is thus
+//!   never left with a partly sleeping island (a partly sleeping island sinks under
+//!   gravity: facts note), and it keeps splitting its islands, which it only does for
+//!   islands holding eligible bodies. Waking is Rapier's: a body touching or pushing
+//!   the island, or a user change, wakes it as a whole; a woken body's rest count
+//!   starts again.
+//! - **cache**: Rapier's contact recycling and warm start, both on; off, both off.
+//! - **tweak**: `num_solver_iterations` = `tweak_iterations` instead of `iterations`.
+//! - **reduce** and **zero**: `modify_solver_contacts` ([`crate::hooks`]), with the hook
+//!   flag on the colliders concerned only (all dynamic colliders for reduce, sleepy
+//!   bodies' colliders for zero). A flagged pair is never contact-recycled: that is
+//!   part of these switches' real cost in Rapier, and the DIKU run measures it.
+//! - **damp**: Rapier's linear damping on every dynamic body (originals restored when
+//!   the switch goes off).
+//! - **subgroup**: sleepy bodies insulate groups in the traversal. In Rapier the solver
+//!   couples an island whatever the groups say, so subgrouping alone changes which
+//!   bodies are judged together (statistics, sleep decisions), and its effect on motion
+//!   comes with fixation.
+//! - **fixate**: a sleepy body is held immovable: its type becomes fixed, so it leaves
+//!   Rapier's islands and costs nothing while awake bodies rest on it (the paper's
+//!   "inverse mass and inertia tensor to zero"). It is released — type, linear and
+//!   angular velocity restored exactly — when a touching body that is not sleepy moves
+//!   faster than `release_speed`.
+//!
+//! Rejected for fixation: locked axes with zeroed velocity (facts note: holds a body
+//! bit-identically and keeps its contacts). It keeps the body in the solver, so it
+//! saves nothing, which is the point of the switch.
+//!
+//! # Cost
+//! Per step, O(awake bodies) for the energy tracking, plus O(changes) Rapier writes.
+//! A full pass over the bodies only when the configuration or the body count changes.
+
+mod config;
+
+pub use config::SpeedUps;
+
+use std::collections::BTreeMap;
+
+use rapier3d::dynamics::{RigidBodyActivation, RigidBodyType};
+use rapier3d::math::Vector;
+use rapier3d::prelude::{ActiveHooks, ColliderHandle, RigidBodyHandle};
+
+use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
+use crate::hooks::ContactMods;
+use crate::logic::WorldMut;
+use crate::WorldView;
+
+/// A body held by fixation, with what it had before.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    handle: RigidBodyHandle,
+    linvel: Vector,
+    angvel: Vector,
+}
+
+/// Per-body rest tracking, indexed by body slot.
+#[derive(Clone, Copy, Debug, Default)]
+struct Rest {
+    generation: u32,
+    steps: u32,
+    sleepy: bool,
+    /// Sleep-eligibility currently written into Rapier.
+    eligible: bool,
+}
+
+/// Counters of the speed-ups' work in the last step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SpeedUpStats {
+    /// Sleepy bodies among the awake ones.
+    pub sleepy: usize,
+    /// Bodies held by fixation.
+    pub fixated: usize,
+    /// Fixations this step.
+    pub fixations: usize,
+    /// Releases this step.
+    pub releases: usize,
+}
+
+/// The state of the speed-ups of a layer.
+#[derive(Clone, Debug)]
+pub struct SpeedUpState {
+    config: SpeedUps,
+    dirty: bool,
+    known_bodies: usize,
+    known_colliders: usize,
+    rest: Vec<Rest>,
+    /// Eligibility changes to write in the pre-step.
+    eligibility: Vec<(RigidBodyHandle, bool)>,
+    /// Fixations and releases to apply in the pre-step.
+    to_fix: Vec<RigidBodyHandle>,
+    to_release: Vec<RigidBodyHandle>,
+    held: BTreeMap<(u32, u32), Held>,
+    /// Colliders flagged for `modify_solver_contacts`, with their former flags.
+    flagged: BTreeMap<(u32, u32), (ColliderHandle, ActiveHooks)>,
+    /// Bodies whose colliders need (true) or lose (false) the zero flag.
+    zero_flags: Vec<(RigidBodyHandle, bool)>,
+    damped: BTreeMap<(u32, u32), (RigidBodyHandle, f32)>,
+    stats: SpeedUpStats,
+    /// Switched off: the next pre-step restores the world, then the state is dropped.
+    detached: bool,
+    restored: bool,
+}
+
+fn key(h: RigidBodyHandle) -> (u32, u32) {
+    h.into_raw_parts()
+}
+
+fn eligible_activation(a: &mut RigidBodyActivation, dt: f32) {
+    a.normalized_linear_threshold = f32::MAX;
+    a.angular_threshold = f32::MAX;
+    // Two steps: a body woken by Rapier (timer reset) cannot fall asleep again in the
+    // same step, before the layer has seen it wake.
+    a.time_until_sleep = 2.0 * dt;
+}
+
+fn never_activation(a: &mut RigidBodyActivation) {
+    a.normalized_linear_threshold = -1.0;
+    a.angular_threshold = -1.0;
+}
+
+impl SpeedUpState {
+    pub(crate) fn new(config: SpeedUps) -> Self {
+        Self {
+            config,
+            dirty: true,
+            known_bodies: usize::MAX,
+            known_colliders: usize::MAX,
+            rest: Vec::new(),
+            eligibility: Vec::new(),
+            to_fix: Vec::new(),
+            to_release: Vec::new(),
+            held: BTreeMap::new(),
+            flagged: BTreeMap::new(),
+            zero_flags: Vec::new(),
+            damped: BTreeMap::new(),
+            stats: SpeedUpStats::default(),
+            detached: false,
+            restored: false,
+        }
+    }
+
+    pub(crate) fn reconfigure(&mut self, config: SpeedUps) {
+        self.config = config;
+        self.dirty = true;
+        self.detached = false;
+        self.restored = false;
+    }
+
+    pub(crate) fn detach(&mut self) {
+        self.detached = true;
+        self.restored = false;
+    }
+
+    pub(crate) fn is_detached(&self) -> bool {
+        self.detached
+    }
+
+    /// Detached and the world restored: the state can be dropped.
+    pub(crate) fn is_idle(&self) -> bool {
+        self.detached && self.restored
+    }
+
+    /// Undoes everything the speed-ups changed in the world.
+    fn restore(&mut self, world: &mut WorldMut, mods: &mut ContactMods) {
+        for (_, held) in std::mem::take(&mut self.held) {
+            if let Some(rb) = world.bodies.get_mut(held.handle) {
+                rb.set_body_type(RigidBodyType::Dynamic, true);
+                rb.set_linvel(held.linvel, true);
+                rb.set_angvel(held.angvel, true);
+            }
+        }
+        self.set_modify_flags(world, &[]);
+        for (_, (h, original)) in std::mem::take(&mut self.damped) {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_linear_damping(original);
+            }
+        }
+        let dynamic: Vec<RigidBodyHandle> = world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, _)| h)
+            .collect();
+        for h in dynamic {
+            let a = world.bodies[h].activation_mut();
+            let fresh = RigidBodyActivation::active();
+            a.normalized_linear_threshold = fresh.normalized_linear_threshold;
+            a.angular_threshold = fresh.angular_threshold;
+            a.time_until_sleep = fresh.time_until_sleep;
+        }
+        let d = rapier3d::prelude::IntegrationParameters::default();
+        let p = &mut *world.integration_parameters;
+        p.num_solver_iterations = d.num_solver_iterations;
+        p.contact_recycling = d.contact_recycling;
+        p.warmstart_coefficient = d.warmstart_coefficient;
+        mods.reduce_depth = None;
+        mods.zero = false;
+        mods.sleepy.clear();
+        self.rest.clear();
+        self.eligibility.clear();
+        self.to_fix.clear();
+        self.to_release.clear();
+        self.zero_flags.clear();
+        self.restored = true;
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SpeedUps {
+        &self.config
+    }
+
+    /// The counters of the last step.
+    pub fn stats(&self) -> SpeedUpStats {
+        self.stats
+    }
+
+    fn rest_of(&self, h: RigidBodyHandle) -> Option<&Rest> {
+        let (i, g) = key(h);
+        self.rest.get(i as usize).filter(|r| r.generation == g)
+    }
+
+    fn rest_mut(&mut self, h: RigidBodyHandle) -> &mut Rest {
+        let (i, g) = key(h);
+        let i = i as usize;
+        if self.rest.len() <= i {
+            self.rest.resize(i + 1, Rest::default());
+        }
+        let r = &mut self.rest[i];
+        if r.generation != g {
+            *r = Rest {
+                generation: g,
+                ..Rest::default()
+            };
+        }
+        r
+    }
+
+    /// Whether a body is sleepy (at rest for `sleepy_steps` steps). O(1).
+    pub fn is_sleepy(&self, h: RigidBodyHandle) -> bool {
+        self.rest_of(h).is_some_and(|r| r.sleepy) || self.is_fixated(h)
+    }
+
+    /// Whether a body is held by fixation. O(log fixated).
+    pub fn is_fixated(&self, h: RigidBodyHandle) -> bool {
+        self.held.contains_key(&key(h))
+    }
+
+    /// The bodies held by fixation, in handle order.
+    pub fn fixated(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.held.values().map(|h| h.handle)
+    }
+
+    /// Applies the configuration and the queued changes to the world, before
+    /// Rapier's step. O(changes), plus O(bodies + colliders) when the configuration or
+    /// the body count changed.
+    pub(crate) fn pre_step(&mut self, world: &mut WorldMut, mods: &mut ContactMods) {
+        if self.detached {
+            if !self.restored {
+                self.restore(world, mods);
+            }
+            return;
+        }
+        let c = self.config.clone();
+        let dt = world.integration_parameters.dt;
+        let params = &mut *world.integration_parameters;
+        params.num_solver_iterations = if c.tweak {
+            c.tweak_iterations
+        } else {
+            c.iterations
+        };
+        params.contact_recycling = c.cache;
+        params.warmstart_coefficient = if c.cache { 1.0 } else { 0.0 };
+        mods.reduce_depth = c.reduce.then_some(c.reduce_depth);
+        mods.zero = c.zero;
+
+        let counts_changed = world.bodies.len() != self.known_bodies
+            || world.colliders.len() != self.known_colliders;
+        if self.dirty || counts_changed {
+            self.dirty = false;
+            self.known_bodies = world.bodies.len();
+            self.known_colliders = world.colliders.len();
+            let mut dynamic: Vec<RigidBodyHandle> = world
+                .bodies
+                .iter()
+                .filter(|(_, b)| b.is_dynamic())
+                .map(|(h, _)| h)
+                .collect();
+            dynamic.sort_by_key(|h| key(*h));
+            for &h in &dynamic {
+                let eligible = self.rest_of(h).is_some_and(|r| r.eligible);
+                let rb = &mut world.bodies[h];
+                // The layer owns sleeping: never eligible unless it says so.
+                if !eligible {
+                    never_activation(rb.activation_mut());
+                }
+                if c.damp {
+                    self.damped
+                        .entry(key(h))
+                        .or_insert((h, rb.linear_damping()));
+                    if rb.linear_damping() != c.damping {
+                        rb.set_linear_damping(c.damping);
+                    }
+                }
+            }
+            if !c.damp {
+                for (_, (h, original)) in std::mem::take(&mut self.damped) {
+                    if let Some(rb) = world.bodies.get_mut(h) {
+                        rb.set_linear_damping(original);
+                    }
+                }
+            }
+            // Reduce: the contact-modification flag on every dynamic collider.
+            let mut want: Vec<ColliderHandle> = Vec::new();
+            if c.reduce {
+                for &h in &dynamic {
+                    want.extend(world.bodies[h].colliders().iter().copied());
+                }
+            }
+            if c.zero {
+                for &h in &dynamic {
+                    if self.is_sleepy(h) {
+                        want.extend(world.bodies[h].colliders().iter().copied());
+                    }
+                }
+            }
+            want.sort_by_key(|c| c.into_raw_parts());
+            want.dedup();
+            self.set_modify_flags(world, &want);
+            self.zero_flags.clear();
+        } else if c.zero && !c.reduce && !self.zero_flags.is_empty() {
+            for (h, on) in std::mem::take(&mut self.zero_flags) {
+                let Some(rb) = world.bodies.get(h) else {
+                    continue;
+                };
+                let colliders: Vec<ColliderHandle> = rb.colliders().to_vec();
+                for ch in colliders {
+                    self.flag_one(world, ch, on);
+                }
+            }
+        }
+        self.zero_flags.clear();
+
+        for (h, eligible) in std::mem::take(&mut self.eligibility) {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                if rb.is_dynamic() {
+                    if eligible {
+                        eligible_activation(rb.activation_mut(), dt);
+                    } else {
+                        never_activation(rb.activation_mut());
+                    }
+                }
+            }
+        }
+        for h in std::mem::take(&mut self.to_release) {
+            if let Some(held) = self.held.remove(&key(h)) {
+                if let Some(rb) = world.bodies.get_mut(h) {
+                    rb.set_body_type(RigidBodyType::Dynamic, true);
+                    rb.set_linvel(held.linvel, true);
+                    rb.set_angvel(held.angvel, true);
+                    never_activation(rb.activation_mut());
+                }
+                let r = self.rest_mut(h);
+                r.steps = 0;
+                r.sleepy = false;
+                r.eligible = false;
+                mods.set_sleepy(h, false);
+            }
+        }
+        for h in std::mem::take(&mut self.to_fix) {
+            let Some(rb) = world.bodies.get_mut(h) else {
+                continue;
+            };
+            if !rb.is_dynamic() {
+                continue;
+            }
+            let held = Held {
+                handle: h,
+                linvel: rb.linvel(),
+                angvel: rb.angvel(),
+            };
+            rb.set_body_type(RigidBodyType::Fixed, false);
+            self.held.insert(key(h), held);
+        }
+        // Bodies removed while held are forgotten.
+        let gone: Vec<(u32, u32)> = self
+            .held
+            .iter()
+            .filter(|(_, h)| !world.bodies.contains(h.handle))
+            .map(|(k, _)| *k)
+            .collect();
+        for k in gone {
+            self.held.remove(&k);
+        }
+        self.stats.fixated = self.held.len();
+    }
+
+    fn set_modify_flags(&mut self, world: &mut WorldMut, want: &[ColliderHandle]) {
+        let current: Vec<(u32, u32)> = self.flagged.keys().copied().collect();
+        for k in current {
+            let keep = want
+                .binary_search_by_key(&k, |c| c.into_raw_parts())
+                .is_ok();
+            if !keep {
+                if let Some((ch, _)) = self.flagged.get(&k).copied() {
+                    self.flag_one(world, ch, false);
+                }
+            }
+        }
+        for &ch in want {
+            self.flag_one(world, ch, true);
+        }
+    }
+
+    fn flag_one(&mut self, world: &mut WorldMut, ch: ColliderHandle, on: bool) {
+        let k = ch.into_raw_parts();
+        let Some(col) = world.colliders.get_mut(ch) else {
+            self.flagged.remove(&k);
+            return;
+        };
+        if on {
+            if !self.flagged.contains_key(&k) {
+                self.flagged.insert(k, (ch, col.active_hooks()));
+            }
+            let f = col.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS;
+            if f != col.active_hooks() {
+                col.set_active_hooks(f);
+            }
+        } else if let Some((_, original)) = self.flagged.remove(&k) {
+            let f = (col.active_hooks() - ActiveHooks::MODIFY_SOLVER_CONTACTS)
+                | (original & ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            if f != col.active_hooks() {
+                col.set_active_hooks(f);
+            }
+        }
+    }
+
+    /// Tracks the refreshed bodies' energy (before the groups are rebuilt, so that
+    /// subgrouping sees this step's sleepy bodies). O(refreshed bodies).
+    pub(crate) fn track(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        refreshed: &[NodeId],
+        woke: &[(NodeId, bool)],
+        mods: &mut ContactMods,
+    ) {
+        if self.detached {
+            return;
+        }
+        let c = self.config.clone();
+        self.stats.sleepy = 0;
+        self.stats.fixations = 0;
+        self.stats.releases = 0;
+        for &(n, awake) in woke {
+            if awake {
+                if let Some(h) = graph.body_of(n) {
+                    let r = self.rest_mut(h);
+                    r.steps = 0;
+                    let was = std::mem::replace(&mut r.sleepy, false);
+                    if was {
+                        mods.set_sleepy(h, false);
+                        self.zero_flags.push((h, false));
+                    }
+                }
+            }
+        }
+        for &n in refreshed {
+            let Some(node) = graph.node(n) else { continue };
+            let NodeSource::Body(h) = node.source() else {
+                continue;
+            };
+            if !node.kind().is_simulated() || !node.is_awake() {
+                continue;
+            }
+            let Some(rb) = view.bodies.get(h) else {
+                continue;
+            };
+            let mass = rb.mass();
+            let ke = if mass > 0.0 {
+                rb.kinetic_energy() / mass
+            } else {
+                0.0
+            };
+            let at_rest = ke.is_finite() && ke < c.sleepy_energy;
+            let r = self.rest_mut(h);
+            r.steps = if at_rest {
+                r.steps.saturating_add(1)
+            } else {
+                0
+            };
+            let sleepy = r.steps >= c.sleepy_steps;
+            if sleepy != r.sleepy {
+                r.sleepy = sleepy;
+                mods.set_sleepy(h, sleepy);
+                self.zero_flags.push((h, sleepy));
+            }
+            if sleepy {
+                self.stats.sleepy += 1;
+            }
+        }
+    }
+
+    /// Decides sleep eligibility and fixation after the groups were rebuilt.
+    /// O(awake groups' members + fast bodies' contacts).
+    pub(crate) fn decide(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        groups: &crate::Groups,
+        refreshed: &[NodeId],
+    ) {
+        if self.detached {
+            return;
+        }
+        let c = self.config.clone();
+        let mut want: Vec<(RigidBodyHandle, bool)> = Vec::new();
+        if c.sleepy {
+            if c.groups {
+                for (_, g) in groups.iter().filter(|(_, g)| !g.asleep) {
+                    let bodies: Vec<RigidBodyHandle> =
+                        g.bodies.iter().filter_map(|&n| graph.body_of(n)).collect();
+                    let all = bodies.iter().all(|&h| self.is_sleepy(h));
+                    want.extend(bodies.into_iter().map(|h| (h, all)));
+                }
+                // Sleepy bodies outside any group (insulated by subgrouping) decide alone.
+                for &n in refreshed {
+                    if let Some(node) = graph.node(n) {
+                        if node.kind().is_simulated() && node.group().is_none() {
+                            if let Some(h) = node.body() {
+                                want.push((h, self.is_sleepy(h)));
+                            }
+                        }
+                    }
+                }
+            } else {
+                for &n in refreshed {
+                    if let Some(h) = graph.body_of(n) {
+                        want.push((h, self.is_sleepy(h)));
+                    }
+                }
+            }
+        }
+        for (h, eligible) in want {
+            if view.bodies.get(h).is_none_or(|b| !b.is_dynamic()) {
+                continue;
+            }
+            let r = self.rest_mut(h);
+            if r.eligible != eligible {
+                r.eligible = eligible;
+                self.eligibility.push((h, eligible));
+            }
+        }
+
+        if c.fixate {
+            // Release: a fast, non-sleepy body touching a held one.
+            for &n in refreshed {
+                let Some(node) = graph.node(n) else { continue };
+                if !node.kind().is_simulated() || !node.is_awake() {
+                    continue;
+                }
+                let Some(h) = node.body() else { continue };
+                if self.is_sleepy(h) {
+                    continue;
+                }
+                let Some(rb) = view.bodies.get(h) else {
+                    continue;
+                };
+                if rb.linvel().length() <= c.release_speed {
+                    continue;
+                }
+                for (m, _, e) in graph.neighbors(n) {
+                    if e.kind() != EdgeKind::Physical || !e.is_touching() {
+                        continue;
+                    }
+                    if let Some(mh) = graph.body_of(m) {
+                        if self.is_fixated(mh) && !self.to_release.contains(&mh) {
+                            self.to_release.push(mh);
+                            self.stats.releases += 1;
+                        }
+                    }
+                }
+            }
+            // Fixate: every sleepy awake simulated body.
+            for &n in refreshed {
+                let Some(node) = graph.node(n) else { continue };
+                if node.kind() != NodeKind::Rigid || !node.is_awake() {
+                    continue;
+                }
+                let Some(h) = node.body() else { continue };
+                if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
+                    self.to_fix.push(h);
+                    self.stats.fixations += 1;
+                }
+            }
+        }
+    }
+}
