@@ -224,7 +224,7 @@ fn main() {
 
     // Table (paper Tables 4–5, with accuracy).
     println!(
-        "\n{:<14} {:>8} {:>8} {:>8} {:>9} {:>5} {:>7} {:>9} {:>7} {:>5}",
+        "\n{:<14} {:>8} {:>8} {:>8} {:>9} {:>5} {:>7} {:>9} {:>7} {:>8} {:>5}",
         "configuration",
         "time s",
         "xbrute",
@@ -234,11 +234,12 @@ fn main() {
         "groups",
         "max vars",
         "awake",
+        "last 1s",
         "left"
     );
     for (_, r) in &results {
         println!(
-            "{:<14} {:>8.3} {:>8.2} {:>8.2} {:>9.4} {:>5} {:>7.1} {:>9} {:>7.1} {:>5}",
+            "{:<14} {:>8.3} {:>8.2} {:>8.2} {:>9.4} {:>5} {:>7.1} {:>9} {:>7.1} {:>8.3} {:>5}",
             r.name,
             r.time_s,
             ratio(brute, r.time_s),
@@ -248,6 +249,7 @@ fn main() {
             r.mean_groups,
             r.max_largest_variables,
             r.mean_awake,
+            r.tail_time_s,
             r.left_region
         );
     }
@@ -257,7 +259,7 @@ fn main() {
         std::process::exit(1);
     }
     let mut csv = String::from(
-        "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,time_s,speedup_brute,speedup_stock,deviation_radii,violations,hanging,launch,penetration,escape,mean_groups,max_group_variables,mean_awake,final_awake,left_plane\n",
+        "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,time_s,speedup_brute,speedup_stock,deviation_radii,violations,hanging,launch,penetration,escape,mean_groups,max_group_variables,mean_awake,final_awake,last_second_s,left_plane\n",
     );
     for (spec, r) in &results {
         let sw = match &spec.mode {
@@ -269,7 +271,7 @@ fn main() {
             _ => std::array::from_fn(|_| String::new()),
         };
         csv += &format!(
-            "{},{:?},{},{:.6},{:.4},{:.4},{:.6},{},{},{},{},{},{:.3},{},{:.3},{},{}\n",
+            "{},{:?},{},{:.6},{:.4},{:.4},{:.6},{},{},{},{},{},{:.3},{},{:.3},{},{:.6},{}\n",
             r.name,
             kind_of(spec),
             sw.join(","),
@@ -286,6 +288,7 @@ fn main() {
             r.max_largest_variables,
             r.mean_awake,
             r.final_awake,
+            r.tail_time_s,
             r.left_region
         );
     }

@@ -344,6 +344,27 @@ impl ContactLayer {
     /// ignores stop interacting at the next step (their bodies are woken so that resting
     /// pairs are released too), and their edges end. Every named node must be live and
     /// a body or trigger, else an error and nothing changes. O(members).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::{ContactLayer, Rule};
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// let (floor, _) = world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// let (ghost, _) = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer.step(&mut world);
+    /// let (f, g) = (layer.node_of_body(floor).unwrap(), layer.node_of_body(ghost).unwrap());
+    /// layer.add_rule(Rule::ignore_pair(f, g)).unwrap();
+    /// for _ in 0..100 {
+    ///     layer.step(&mut world);
+    /// }
+    /// assert!(world.bodies[ghost].translation().y < -1.0, "it fell through the floor");
+    /// ```
     pub fn add_rule(&mut self, rule: Rule) -> Result<NodeId> {
         let members = rule.members();
         if members.is_empty() {
@@ -402,6 +423,22 @@ impl ContactLayer {
 
     /// Adds a timer of `period` simulated seconds; it ticks `TimerTick` events (tick 1
     /// one period after now). A period that is not finite and positive is an error.
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.integration_parameters.dt = 0.01;
+    /// let mut layer = ContactLayer::new();
+    /// let timer = layer.add_timer(0.25).unwrap();
+    /// for _ in 0..100 {
+    ///     layer.step(&mut world);
+    /// }
+    /// assert_eq!(layer.timer_ticks(timer).unwrap(), 4);
+    /// assert!(layer.add_timer(-1.0).is_err());
+    /// ```
     pub fn add_timer(&mut self, period: f64) -> Result<NodeId> {
         if !period.is_finite() || period <= 0.0 {
             return Err(Error::InvalidParameter {
@@ -459,6 +496,26 @@ impl ContactLayer {
     /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
     /// flag is cleared in the pre-step, its edges end at the next analysis, and no
     /// event names it while passive. O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// let (ball, _) = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer.step(&mut world);
+    /// layer.set_passive(ball, true).unwrap();
+    /// layer.step(&mut world);
+    /// let node = layer.node_of_body(ball).unwrap(); // same node, same handle
+    /// assert!(layer.graph().node(node).unwrap().is_passive());
+    /// assert_eq!(layer.graph().node(node).unwrap().degree(), 0);
+    /// ```
     pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
         let node = self.graph.try_node_of_body(body)?;
         self.logic.queue_passive(body, node, passive);
@@ -470,6 +527,26 @@ impl ContactLayer {
     /// Declares bodies rigidly attached by the user (not by Rapier joints) as a
     /// `Composite` node with structural edges to them: contact groups then treat them as
     /// one. Members must be live dynamic bodies (`Rigid`), else an error. O(members).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// let a = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.5)).0;
+    /// let b = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(5.0, 0.0, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// ).0;
+    /// let mut layer = ContactLayer::new();
+    /// layer.step(&mut world);
+    /// let (na, nb) = (layer.node_of_body(a).unwrap(), layer.node_of_body(b).unwrap());
+    /// layer.declare_composite(&[na, nb]).unwrap();
+    /// layer.step(&mut world);
+    /// let group = |n| layer.graph().node(n).unwrap().group();
+    /// assert_eq!(group(na), group(nb), "one group through the composite");
+    /// ```
     pub fn declare_composite(&mut self, bodies: &[NodeId]) -> Result<NodeId> {
         if bodies.is_empty() {
             return Err(Error::InvalidParameter {

@@ -161,3 +161,26 @@ fn removing_a_body_ends_its_spans() {
         .any(|e| e.kind == EventKind::ProximityEnd && e.body_a.is_some()));
     log.agrees_with(&layer);
 }
+
+#[test]
+fn a_container_in_a_node_filter_matches_its_members_events() {
+    let mut scene = scenes::pendulum_wall();
+    let mut layer = ContactLayer::new();
+    common::run_validated(&mut scene, &mut layer, 0, 1);
+    let (mb, _) = layer
+        .graph()
+        .nodes_of_kind(rapier_contact_graph::NodeKind::Multibody)
+        .next()
+        .expect("the pendulum is a multibody");
+    let links: Vec<_> = layer.graph().neighbors(mb).map(|(n, _, _)| n).collect();
+    let rx = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_nodes(&[mb]));
+    common::run_validated(&mut scene, &mut layer, 1, 150);
+    let got: Vec<_> = rx.try_iter().collect();
+    assert!(
+        got.iter().any(|e| e.kind == EventKind::TouchBegin),
+        "the links hit the wall"
+    );
+    assert!(got
+        .iter()
+        .all(|e| links.contains(&e.a) || e.b.is_some_and(|b| links.contains(&b))));
+}

@@ -166,9 +166,9 @@ impl Containers {
             *all_fixed.entry(r).or_insert(true) &= fixed;
         }
         let mut comps: BTreeMap<usize, Vec<RigidBodyHandle>> = BTreeMap::new();
-        for i in 0..handles.len() {
+        for (i, &h) in handles.iter().enumerate() {
             let r = find(&mut parent, i);
-            comps.entry(r).or_default().push(handles[i]);
+            comps.entry(r).or_default().push(h);
         }
         for (r, mut members) in comps {
             members.sort_by_key(|h| handle_key(*h));

@@ -188,9 +188,7 @@ impl Logic {
             }
             for c in need {
                 if let Some(col) = world.colliders.get_mut(c) {
-                    if !self.flagged.contains_key(&c) {
-                        self.flagged.insert(c, col.active_hooks());
-                    }
+                    self.flagged.entry(c).or_insert(col.active_hooks());
                     let flags = col.active_hooks() | RULE_HOOKS;
                     if flags != col.active_hooks() {
                         col.set_active_hooks(flags);

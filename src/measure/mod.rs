@@ -122,6 +122,9 @@ pub struct RunResult {
     pub name: String,
     /// Wall time of the timed part of the steps, seconds.
     pub time_s: f64,
+    /// The timed part of the last 100 steps (the last simulated second at dt = 0.01),
+    /// seconds: what a settled scene costs.
+    pub tail_time_s: f64,
     /// RMS over sampled frames of the mean position error, in radii (0 for the
     /// reference itself; NaN without a reference).
     pub deviation: f64,
@@ -303,10 +306,12 @@ pub fn run(
         .reference
         .map_or(f64::NAN, |r| deviation(&traj, r, opts.radius));
     let n = opts.steps.max(1) as f64;
+    let tail: u64 = step_us.iter().rev().take(100).map(|&u| u as u64).sum();
     Ok((
         RunResult {
             name: spec.name.clone(),
             time_s: timed.as_secs_f64(),
+            tail_time_s: tail as f64 * 1e-6,
             deviation,
             violations,
             mean_groups: groups_sum / n,

@@ -427,9 +427,7 @@ impl SpeedUpState {
             return;
         };
         if on {
-            if !self.flagged.contains_key(&k) {
-                self.flagged.insert(k, (ch, col.active_hooks()));
-            }
+            self.flagged.entry(k).or_insert((ch, col.active_hooks()));
             let f = col.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS;
             if f != col.active_hooks() {
                 col.set_active_hooks(f);

@@ -1,0 +1,31 @@
+//! The README's quick start, kept compiling and true.
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::{
+    events::{EventKind, Filter, KindSet},
+    ContactLayer,
+};
+
+#[test]
+fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
+    let mut world = PhysicsWorld::new();
+    world.insert(
+        RigidBodyBuilder::fixed(),
+        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
+    );
+    let (ball, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 2.0, 0.0)),
+        ColliderBuilder::ball(0.5),
+    );
+    let mut layer = ContactLayer::new();
+    let touches = layer.subscribe(Filter::kinds(KindSet::TOUCH));
+    for _ in 0..100 {
+        layer.step(&mut world);
+    }
+    let node = layer.node_of_body(ball)?;
+    assert_eq!(layer.graph().touching(node).count(), 1);
+    assert!(layer.is_supported(node)?);
+    let events: Vec<_> = touches.try_iter().collect();
+    assert_eq!(events.first().map(|e| e.kind), Some(EventKind::TouchBegin));
+    Ok(())
+}
