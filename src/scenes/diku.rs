@@ -70,6 +70,7 @@
 use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
 
+use super::jitter::Jitter;
 use super::{new_world, Scene};
 
 /// Side of one letter cell, both along and across the slope: the width of a groove.
@@ -287,30 +288,6 @@ fn rim(spheres: usize) -> [(Vector, Vector); 4] {
     ]
 }
 
-/// splitmix64-seeded xorshift64*: deterministic, tiny, seed 0 is fine.
-struct Jitter(u64);
-
-impl Jitter {
-    fn new(seed: u64) -> Self {
-        let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        Jitter(if z == 0 { 0x2545_F491_4F6C_DD1D } else { z })
-    }
-
-    /// Uniform in `[-JITTER, JITTER]`.
-    fn next(&mut self) -> Real {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        let unit = (x.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64;
-        ((unit * 2.0 - 1.0) * JITTER as f64) as Real
-    }
-}
-
 /// Drop positions of the spheres in the plane frame, in insertion order (layer by
 /// layer from the bottom, each layer row by row from the top of the slope, each row
 /// across in `+z`). Full layers first; the last, partial layer is spread evenly over
@@ -324,7 +301,7 @@ fn drop_positions(params: &DikuParams) -> Vec<Vector> {
     let col_step = w / (cols + 1) as Real;
     let per_layer = cols * DROP_ROWS;
     let layers = n.div_ceil(per_layer).max(1);
-    let mut rng = Jitter::new(params.seed);
+    let mut rng = Jitter::new(params.seed, JITTER);
     let mut out = Vec::with_capacity(n);
     for layer in 0..layers {
         let first = layer * per_layer;

@@ -15,6 +15,7 @@ use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 
 pub mod ball_on_box;
 pub mod diku;
+mod jitter;
 pub mod kinematic_platform;
 pub mod pendulum;
 pub mod pile;

@@ -22,6 +22,7 @@
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
 
+use super::jitter::Jitter;
 use super::{new_world, Scene};
 
 /// Radius of every sphere.
@@ -65,34 +66,6 @@ fn drop_grid(n: usize) -> (usize, Real, usize) {
     (per_side, spacing, layers)
 }
 
-/// xorshift64* seeded through splitmix64 (so seed 0 is fine): deterministic, tiny.
-struct Jitter(u64);
-
-impl Jitter {
-    fn new(seed: u64) -> Self {
-        let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        Jitter(if z == 0 { 0x2545_F491_4F6C_DD1D } else { z })
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// Uniform in `[-JITTER, JITTER]`.
-    fn next(&mut self) -> Real {
-        let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64; // [0, 1)
-        ((unit * 2.0 - 1.0) * JITTER as f64) as Real
-    }
-}
-
 /// Builds a pile of `n` spheres dropped into a fixed container, with drop-position
 /// jitter seeded by `seed`. `scene.bodies` holds only `"container"` (the fixed body
 /// carrying the floor and the four walls); the spheres are all the other bodies of
@@ -134,7 +107,7 @@ pub fn sphere_pile(n: usize, seed: u64) -> Scene {
     }
 
     let (per_side, spacing, _) = drop_grid(n);
-    let mut rng = Jitter::new(seed);
+    let mut rng = Jitter::new(seed, JITTER);
     for i in 0..n {
         let layer = i / (per_side * per_side);
         let in_layer = i % (per_side * per_side);
