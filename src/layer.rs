@@ -201,6 +201,15 @@ impl ContactLayer {
                 &mut self.logic.hooks.mods,
             );
         }
+        if let Some(s) = &self.speedups {
+            if s.config().subgroup {
+                for &h in &s.sleepy_changed {
+                    if let Some(n) = self.graph.node_of_body(h) {
+                        self.groups.disturb(&mut self.graph, n);
+                    }
+                }
+            }
+        }
         let (grouping, subgroup) = match &self.speedups {
             Some(s) if !s.is_detached() => (s.config().groups, s.config().subgroup),
             _ => (true, false),
@@ -223,6 +232,8 @@ impl ContactLayer {
                             .body()
                             .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
             });
+            self.groups
+                .apply_contact_deltas(&self.graph, self.coherence.touched_edges(), step);
         }
         if let Some(s) = &mut self.speedups {
             s.decide(

@@ -195,6 +195,28 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             }
         }
     }
+    for (gid, g) in groups.iter() {
+        let mut contacts = 0u32;
+        for &eid in &g.edges {
+            let Some(e) = graph.edge(eid) else {
+                return fail(format!("group {gid:?} holds dead edge {eid:?}"));
+            };
+            if e.kind() == EdgeKind::Physical {
+                if !e.is_touching() {
+                    return fail(format!(
+                        "group {gid:?} holds edge {eid:?} that no longer touches"
+                    ));
+                }
+                contacts += e.cache().contact_count;
+            }
+        }
+        if contacts != g.contacts || g.variables != 3 * contacts {
+            return fail(format!(
+                "group {gid:?} counts {} contacts / {} variables, its edges {contacts}",
+                g.contacts, g.variables
+            ));
+        }
+    }
     for (id, node) in graph.nodes() {
         let simulated = node.kind().is_simulated();
         if simulated

@@ -82,6 +82,8 @@ pub struct Coherence {
     triggers: Vec<NodeId>,
     /// Bodies that fell asleep (`false`) or woke up (`true`) this step.
     sleep_changes: Vec<(NodeId, bool)>,
+    /// Bodies made passive or active this step.
+    passive_changed: Vec<NodeId>,
 }
 
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
@@ -180,6 +182,9 @@ impl Coherence {
     /// regroups their ends.
     pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
         let step = self.step;
+        for n in std::mem::take(&mut graph.kind_changed) {
+            groups.disturb(graph, n);
+        }
         for mut e in std::mem::take(&mut graph.dropped) {
             groups.disturb(graph, e.a);
             groups.disturb(graph, e.b);
@@ -233,6 +238,7 @@ impl Coherence {
         self.removed_nodes.clear();
         self.created.clear();
         self.sleep_changes.clear();
+        self.passive_changed.clear();
         self.counters = WalkCounters::default();
 
         // 1. Node upkeep.
@@ -353,9 +359,6 @@ impl Coherence {
                 self.walk_body_sensors(graph, view, screen, me);
             }
         }
-        for &me in &walk {
-            groups.disturb(graph, me);
-        }
 
         // 3. Vanished edges and obsolete removal, for the refreshed bodies and the
         // triggers they carry.
@@ -399,6 +402,33 @@ impl Coherence {
             }
         }
         self.triggers = triggers;
+
+        // Groups change only where structure changed: a contact started or ended, a
+        // body woke, slept, became passive (above), changed kind or appeared (in
+        // `take_dropped` and node upkeep). A refreshed body without a group (first
+        // seen, released) is a root too.
+        for i in 0..self.touched.len() {
+            let Some(e) = graph.edge(self.touched[i]) else {
+                continue;
+            };
+            if e.kind == EdgeKind::Physical && e.cache.touching != e.cache.touching_old {
+                let (a, b) = (e.a, e.b);
+                groups.disturb(graph, a);
+                groups.disturb(graph, b);
+            }
+        }
+        for &(n, _) in &self.sleep_changes {
+            groups.disturb(graph, n);
+        }
+        for &me in &walk {
+            let ungrouped = graph
+                .node(me)
+                .is_some_and(|n| n.kind.is_simulated() && n.group.is_none() && !n.passive);
+            if ungrouped || self.passive_changed.contains(&me) {
+                groups.disturb(graph, me);
+            }
+        }
+        self.take_dropped(graph, groups);
         self.walk = walk;
         // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
         // removed in the same step, so the list needs no sorting or filtering: its
@@ -432,6 +462,9 @@ impl Coherence {
             // A body created this step does not "wake up" or "fall asleep": it starts;
             // nor does a body made passive or active again (passive is not asleep).
             let passive_change = was_passive || n.passive;
+            if was_passive != n.passive {
+                self.passive_changed.push(id);
+            }
             if n.kind.is_simulated()
                 && was_awake != n.awake
                 && n.born_step != step

@@ -74,6 +74,8 @@ pub struct ContactCache {
     pub min_distance: Real,
     /// The number of active solver contacts.
     pub contact_count: u32,
+    /// `contact_count` at the previous update.
+    pub contact_count_old: u32,
     /// The deepest penetration (≥ 0).
     pub max_penetration: Real,
     /// The sum of the normal impulses the solver applied at the last step.
@@ -96,6 +98,7 @@ impl Default for ContactCache {
             relative_pose_changed: false,
             min_distance: Real::INFINITY,
             contact_count: 0,
+            contact_count_old: 0,
             max_penetration: 0.0,
             normal_impulse: 0.0,
             normal: Vector::ZERO,
@@ -121,6 +124,7 @@ impl ContactCache {
         self.touching_old = self.touching;
         self.proximity = false;
         self.touching = false;
+        self.contact_count_old = self.contact_count;
         self.contact_count = 0;
         self.collider_pairs = 0;
         if details {

@@ -58,6 +58,8 @@ pub struct ContactGraph {
     pub(crate) clock: u64,
     /// Edges dropped by kind changes, waiting to be reported by the layer.
     pub(crate) dropped: Vec<Edge>,
+    /// Nodes whose kind changed, waiting for their groups to be rebuilt.
+    pub(crate) kind_changed: Vec<NodeId>,
 }
 
 fn kind_slot(kind: NodeKind) -> usize {
@@ -336,6 +338,7 @@ impl ContactGraph {
         };
         self.kind_counts[kind_slot(old)] -= 1;
         self.kind_counts[kind_slot(kind)] += 1;
+        self.kind_changed.push(id);
         let incident = self.node(id).map(|n| n.edges.clone()).unwrap_or_default();
         for eid in incident {
             let Some(e) = self.edge(eid) else { continue };

@@ -16,10 +16,12 @@
 //!   alone), so "number of groups" counts every independently solved part.
 //! - Insulators belong to no group; [`Group::insulators`] lists the ones it rests on.
 //!
-//! Cost: groups are rebuilt every step only where something is awake. A group whose
-//! bodies all sleep is kept as it was (its id stays valid) until one of its bodies
-//! wakes, is touched by an awake group, or is removed; then it is dissolved and its
-//! bodies are traversed again. A settled scene therefore costs nothing here.
+//! Cost: a group is rebuilt only where its structure changed: a contact started or
+//! ended between its bodies, a body was added, removed, woke up, fell asleep, changed
+//! kind or became passive (or, under subgrouping, became sleepy or stopped being so).
+//! Every other group is kept as it was (its id stays valid), and its contact and
+//! variable counts follow the per-edge contact counts by differences. A settled scene,
+//! and a moving one whose contacts persist, therefore costs almost nothing here.
 
 use crate::graph::{Arena, ContactGraph, EdgeId, EdgeKind, NodeId, NodeKind};
 
@@ -109,6 +111,8 @@ pub struct Groups {
     stats: GroupStats,
     /// Running totals over sleeping groups, so a settled scene's statistics cost O(1).
     sleeping: SleepingTotals,
+    /// The groups with an awake member (their statistics are summed every step).
+    awake: std::collections::BTreeSet<GroupId>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -172,6 +176,7 @@ impl Groups {
     /// traversal.
     pub(crate) fn dissolve(&mut self, graph: &mut ContactGraph, id: GroupId) {
         if let Some(g) = self.arena.remove(id.index(), id.generation()) {
+            self.awake.remove(&id);
             if g.asleep {
                 let t = &mut self.sleeping;
                 t.count -= 1;
@@ -216,7 +221,7 @@ impl Groups {
     ) {
         self.stamp += 1;
         let stamp = self.stamp;
-        let mut awake = GroupStats::default();
+        let mut rebuilt = 0;
         let mut r = 0;
         while r < self.roots.len() {
             let root = self.roots[r];
@@ -293,22 +298,21 @@ impl Groups {
             }
             group.insulators.sort();
             group.insulators.dedup();
-            awake.rebuilt += 1;
-            if group.asleep {
+            rebuilt += 1;
+            let asleep = group.asleep;
+            if asleep {
                 let t = &mut self.sleeping;
                 t.count += 1;
                 t.variables += group.variables as u64;
                 t.largest_bodies = t.largest_bodies.max(group.bodies.len());
                 t.largest_variables = t.largest_variables.max(group.variables);
-            } else {
-                awake.awake_groups += 1;
-                awake.awake_variables += group.variables as u64;
-                awake.largest_bodies = awake.largest_bodies.max(group.bodies.len());
-                awake.largest_variables = awake.largest_variables.max(group.variables);
             }
             let members = group.bodies.clone();
             let (i, g) = self.arena.insert(group);
             let id = GroupId::new(i, g);
+            if !asleep {
+                self.awake.insert(id);
+            }
             for n in members {
                 if let Some(node) = graph.node_mut(n) {
                     node.group = Some(id);
@@ -316,14 +320,61 @@ impl Groups {
             }
         }
         self.roots.clear();
-        self.update_stats(awake);
+        self.update_stats(rebuilt);
     }
 
-    /// Combines this step's awake groups with the running sleeping totals. Every awake
-    /// group is rebuilt each step (its awake members are roots), so `awake` covers them
-    /// all. O(1), or O(groups) on a step that dissolved a sleeping group holding a
-    /// maximum.
-    fn update_stats(&mut self, awake: GroupStats) {
+    /// Keeps the contact counts of the groups that were not rebuilt in step with their
+    /// edges: each refreshed physical edge adds the difference of its contact count to
+    /// the group of its bodies. Call after [`Self::rebuild`], with the step's refreshed
+    /// edges. O(refreshed edges).
+    pub(crate) fn apply_contact_deltas(
+        &mut self,
+        graph: &ContactGraph,
+        edges: &[EdgeId],
+        step: u64,
+    ) {
+        let mut changed = false;
+        for &eid in edges {
+            let Some(e) = graph.edge(eid) else { continue };
+            if e.kind != EdgeKind::Physical || !e.cache.touching || !e.cache.touching_old {
+                continue; // starts and ends rebuilt their groups
+            }
+            let (new, old) = (e.cache.contact_count, e.cache.contact_count_old);
+            if new == old {
+                continue;
+            }
+            let gid = [e.a, e.b]
+                .iter()
+                .filter_map(|&n| graph.node(n).and_then(|n| n.group))
+                .next();
+            let Some(gid) = gid else { continue };
+            let Some(g) = self.arena.get_mut(gid.index(), gid.generation()) else {
+                continue;
+            };
+            if g.built_step == step {
+                continue; // counted fresh
+            }
+            let (dc, dv) = (new as i64 - old as i64, 3 * (new as i64 - old as i64));
+            g.contacts = (g.contacts as i64 + dc).max(0) as u32;
+            let before = g.variables;
+            g.variables = (g.variables as i64 + dv).max(0) as u32;
+            if g.asleep {
+                let t = &mut self.sleeping;
+                t.variables =
+                    (t.variables as i64 + (g.variables as i64 - before as i64)).max(0) as u64;
+                t.dirty = true;
+            }
+            changed = true;
+        }
+        if changed {
+            self.update_stats(self.stats.rebuilt);
+        }
+    }
+
+    /// Combines the awake groups (summed: O(awake groups)) with the running sleeping
+    /// totals (O(1), or O(groups) on a step that dissolved a sleeping group holding a
+    /// maximum).
+    fn update_stats(&mut self, rebuilt: usize) {
         let t = &mut self.sleeping;
         if t.dirty {
             t.dirty = false;
@@ -334,6 +385,15 @@ impl Groups {
                 t.largest_variables = t.largest_variables.max(g.variables);
             }
         }
+        let mut awake = GroupStats::default();
+        for id in &self.awake {
+            if let Some(g) = self.arena.get(id.index(), id.generation()) {
+                awake.awake_groups += 1;
+                awake.awake_variables += g.variables as u64;
+                awake.largest_bodies = awake.largest_bodies.max(g.bodies.len());
+                awake.largest_variables = awake.largest_variables.max(g.variables);
+            }
+        }
         self.stats = GroupStats {
             groups: awake.awake_groups + t.count,
             awake_groups: awake.awake_groups,
@@ -341,7 +401,7 @@ impl Groups {
             largest_variables: awake.largest_variables.max(t.largest_variables),
             total_variables: awake.awake_variables + t.variables,
             awake_variables: awake.awake_variables,
-            rebuilt: awake.rebuilt,
+            rebuilt,
         };
         debug_assert_eq!(self.stats.groups, self.arena.len());
     }

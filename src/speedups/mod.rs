@@ -105,6 +105,8 @@ pub struct SpeedUpState {
     zero_flags: Vec<(RigidBodyHandle, bool)>,
     damped: BTreeMap<(u32, u32), (RigidBodyHandle, f32)>,
     stats: SpeedUpStats,
+    /// Bodies whose sleepy state changed in the last tracking (subgrouping regroups them).
+    pub(crate) sleepy_changed: Vec<RigidBodyHandle>,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,
@@ -143,6 +145,7 @@ impl SpeedUpState {
             zero_flags: Vec::new(),
             damped: BTreeMap::new(),
             stats: SpeedUpStats::default(),
+            sleepy_changed: Vec::new(),
             detached: false,
             restored: false,
         }
@@ -455,6 +458,7 @@ impl SpeedUpState {
             return;
         }
         let c = self.config.clone();
+        self.sleepy_changed.clear();
         self.stats.sleepy = 0;
         self.stats.fixations = 0;
         self.stats.releases = 0;
@@ -467,6 +471,7 @@ impl SpeedUpState {
                     if was {
                         mods.set_sleepy(h, false);
                         self.zero_flags.push((h, false));
+                        self.sleepy_changed.push(h);
                     }
                 }
             }
@@ -500,6 +505,7 @@ impl SpeedUpState {
                 r.sleepy = sleepy;
                 mods.set_sleepy(h, sleepy);
                 self.zero_flags.push((h, sleepy));
+                self.sleepy_changed.push(h);
             }
             if sleepy {
                 self.stats.sleepy += 1;
