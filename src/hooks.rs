@@ -9,8 +9,9 @@
 //! is set, the hooks are never called and results are bit-identical to `&()`.
 
 use rapier3d::pipeline::{ContactModificationContext, PairFilterContext, PhysicsHooks};
-use rapier3d::prelude::{RigidBodyHandle, SolverFlags};
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, SolverFlags};
 
+use crate::graph::{ContactGraph, NodeId};
 use crate::logic::RuleTable;
 
 /// The contact modifications of the speed-ups, read by the hooks during a step.
@@ -42,8 +43,8 @@ impl ContactMods {
     }
 }
 
-/// The layer's physics hooks. Pass them to Rapier when stepping it yourself
-/// (`layer.hooks()`), or let [`crate::ContactLayer::step`] do it.
+/// The state of the layer's physics hooks (rules and contact modifications). Rapier is
+/// handed a [`HooksView`] of it, which also sees the graph.
 #[derive(Clone, Debug, Default)]
 pub struct LayerHooks {
     pub(crate) rules: RuleTable,
@@ -61,9 +62,62 @@ impl LayerHooks {
     }
 }
 
-impl PhysicsHooks for LayerHooks {
+/// The physics hooks the layer gives Rapier: its hook state plus the graph, so that a
+/// rule can be asked about any pair of nodes (a predicate rule's member against a body
+/// the rule does not name). Get one with [`crate::ContactLayer::hooks`] when stepping
+/// Rapier yourself:
+///
+/// ```
+/// use rapier3d::prelude::*;
+/// use rapier_contact_graph::{ContactLayer, WorldMut, WorldView};
+///
+/// let mut world = PhysicsWorld::new();
+/// let mut layer = ContactLayer::new();
+/// layer.pre_step(WorldMut::from(&mut world));
+/// world.step_with_events(&layer.hooks(), &());
+/// layer.analyze(WorldView::from(&world));
+/// ```
+#[derive(Clone, Copy)]
+pub struct HooksView<'a> {
+    pub(crate) state: &'a LayerHooks,
+    pub(crate) graph: &'a ContactGraph,
+}
+
+impl<'a> HooksView<'a> {
+    /// The rules in force.
+    pub fn table(&self) -> &'a RuleTable {
+        &self.state.rules
+    }
+    /// The contact modifications in force.
+    pub fn mods(&self) -> &'a ContactMods {
+        &self.state.mods
+    }
+
+    fn node_of(&self, body: Option<RigidBodyHandle>, collider: ColliderHandle) -> Option<NodeId> {
+        self.graph
+            .node_of_sensor(collider)
+            .or_else(|| self.graph.node_of_static_collider(collider))
+            .or_else(|| body.and_then(|b| self.graph.node_of_body(b)))
+    }
+
+    fn ignores(&self, ctx: &PairFilterContext) -> bool {
+        let rules = &self.state.rules;
+        if rules.is_empty() {
+            return false;
+        }
+        match (
+            self.node_of(ctx.rigid_body1, ctx.collider1),
+            self.node_of(ctx.rigid_body2, ctx.collider2),
+        ) {
+            (Some(a), Some(b)) => rules.ignores(a, b),
+            _ => false,
+        }
+    }
+}
+
+impl PhysicsHooks for HooksView<'_> {
     fn filter_contact_pair(&self, ctx: &PairFilterContext) -> Option<SolverFlags> {
-        if self.rules.ignores_pair(ctx) {
+        if self.ignores(ctx) {
             None
         } else {
             Some(SolverFlags::default())
@@ -71,14 +125,15 @@ impl PhysicsHooks for LayerHooks {
     }
 
     fn filter_intersection_pair(&self, ctx: &PairFilterContext) -> bool {
-        !self.rules.ignores_pair(ctx)
+        !self.ignores(ctx)
     }
 
     fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
-        let zero = self.mods.zero
-            && (ctx.rigid_body1.is_some_and(|h| self.mods.is_sleepy(h))
-                || ctx.rigid_body2.is_some_and(|h| self.mods.is_sleepy(h)));
-        let reduce = self.mods.reduce_depth;
+        let mods = &self.state.mods;
+        let zero = mods.zero
+            && (ctx.rigid_body1.is_some_and(|h| mods.is_sleepy(h))
+                || ctx.rigid_body2.is_some_and(|h| mods.is_sleepy(h)));
+        let reduce = mods.reduce_depth;
         let Some(m) = ctx.rigid_mut() else { return };
         if zero {
             *m.restitution = 0.0;

@@ -29,7 +29,7 @@ use crate::coherence::{Coherence, RemovedNode, Screen, WalkCounters};
 use crate::events::{Event, EventBus, Filter, SubscriptionId};
 use crate::graph::{Category, ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::{GroupStats, Groups};
-use crate::hooks::LayerHooks;
+use crate::hooks::HooksView;
 use crate::logic::{Logic, Rule, WorldMut};
 use crate::speedups::{SpeedUpState, SpeedUps};
 use crate::{Error, Result, WorldView};
@@ -107,7 +107,7 @@ impl ContactLayer {
     /// changed.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
         self.pre_step(WorldMut::from(&mut *world));
-        world.step_with_events(&self.logic.hooks, &());
+        world.step_with_events(&self.hooks(), &());
         self.analyze(WorldView::from(&*world))
     }
 
@@ -155,10 +155,14 @@ impl ContactLayer {
         self.speedups.as_ref().filter(|s| !s.is_detached())
     }
 
-    /// The physics hooks to give Rapier when stepping it yourself. They act only on
-    /// colliders flagged for rules.
-    pub fn hooks(&self) -> &LayerHooks {
-        &self.logic.hooks
+    /// The physics hooks to give Rapier when stepping it yourself (see
+    /// [`HooksView`]). Rapier calls them only for colliders the layer flagged (rule
+    /// members, and the colliders a contact speed-up concerns).
+    pub fn hooks(&self) -> HooksView<'_> {
+        HooksView {
+            state: &self.logic.hooks,
+            graph: &self.graph,
+        }
     }
 
     /// The post-step analysis alone, for users who step Rapier themselves (their own
@@ -308,12 +312,18 @@ impl ContactLayer {
 
     /// Subscribes on a channel of at most `capacity` events: when it is full, the newest
     /// events are dropped and counted ([`EventBus::dropped`]); the step never blocks.
-    /// `capacity` 0 is an error. O(1).
+    /// A capacity of 0 or above [`crate::events::MAX_CAPACITY`], or a filter naming a
+    /// stale node, is an error. O(1).
     pub fn subscribe_bounded(
         &mut self,
         filter: Filter,
         capacity: usize,
     ) -> Result<Receiver<Event>> {
+        if let Some(nodes) = filter.nodes() {
+            for &n in nodes {
+                self.graph.try_node(n)?;
+            }
+        }
         Ok(self.bus.subscribe_bounded(filter, capacity)?.1)
     }
 
@@ -451,10 +461,13 @@ impl ContactLayer {
     /// assert!(layer.add_timer(-1.0).is_err());
     /// ```
     pub fn add_timer(&mut self, period: f64) -> Result<NodeId> {
-        if !period.is_finite() || period <= 0.0 {
+        if !period.is_finite() || period < crate::logic::MIN_TIMER_PERIOD {
             return Err(Error::InvalidParameter {
                 name: "period",
-                reason: format!("must be finite and positive, got {period}"),
+                reason: format!(
+                    "must be finite and at least {} s, got {period}",
+                    crate::logic::MIN_TIMER_PERIOD
+                ),
             });
         }
         let serial = self.logic.serial();
@@ -692,8 +705,8 @@ impl ContactLayer {
         self.graph.try_node_of_body(body)
     }
 
-    /// The node of a collider: its parent body's node, or its own for a parentless
-    /// collider. O(1).
+    /// The node of a collider: the trigger node of a sensor, else its parent body's
+    /// node, or its own for a parentless collider. O(1).
     pub fn node_of_collider(
         &self,
         world: &PhysicsWorld,
@@ -703,6 +716,9 @@ impl ContactLayer {
             .colliders
             .get(collider)
             .ok_or(crate::Error::UnknownCollider(collider))?;
+        if let Some(t) = self.graph.node_of_sensor(collider) {
+            return Ok(t);
+        }
         match c.parent() {
             Some(b) => self.graph.try_node_of_body(b),
             None => self

@@ -38,6 +38,9 @@ use crate::graph::{ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeS
 use crate::groups::Groups;
 use crate::WorldView;
 
+/// Nodes (and Rapier body slots) checked per step by the round-robin verification.
+pub const VERIFY_PER_STEP: usize = 32;
+
 /// A lingering (vanished) edge is tested for obsolescence every this many steps.
 pub const OBSOLETE_EVERY: u64 = 16;
 
@@ -84,6 +87,11 @@ pub struct Coherence {
     sleep_changes: Vec<(NodeId, bool)>,
     /// Bodies made passive or active this step.
     passive_changed: Vec<NodeId>,
+    /// Scratch buffer for a node's colliders.
+    scratch_colliders: Vec<ColliderHandle>,
+    verify_cursor: u32,
+    verify_body_cursor: u32,
+    verify_collider_cursor: u32,
 }
 
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
@@ -178,10 +186,66 @@ impl Coherence {
         self.force_full_sync = true;
     }
 
+    /// Checks a few nodes and Rapier body slots per step, round robin: a node whose
+    /// object is gone is removed, a body whose type changed in place gets its kind,
+    /// and a body without node gets one. It makes the graph consistent, within
+    /// `nodes / VERIFY_PER_STEP` steps, after changes the per-step upkeep cannot see
+    /// (removing and inserting bodies between two steps, retyping a sleeping body),
+    /// without a full scan. O(VERIFY_PER_STEP).
+    fn verify_some(&mut self, graph: &mut ContactGraph, groups: &mut Groups, view: &WorldView) {
+        let slots = graph.nodes.slot_count() as u32;
+        if slots > 0 {
+            for _ in 0..VERIFY_PER_STEP.min(slots as usize) {
+                let i = self.verify_cursor % slots;
+                self.verify_cursor = self.verify_cursor.wrapping_add(1);
+                let Some(id) = graph.node_id_at(i) else {
+                    continue;
+                };
+                let Some(source) = graph.node(id).map(|n| n.source) else {
+                    continue;
+                };
+                if !nodes::source_exists(view, source) {
+                    self.remove_node(graph, groups, id);
+                } else if let NodeSource::Body(h) = source {
+                    nodes::ensure_body_node(graph, view, h, &mut self.created);
+                }
+            }
+        }
+        // Rapier's arena may hold free slots beyond `len()`: cover the highest body slot
+        // the graph has seen too.
+        let body_slots =
+            view.bodies.len().max(graph.body_slot_span()) as u32 + VERIFY_PER_STEP as u32;
+        for _ in 0..VERIFY_PER_STEP {
+            let i = self.verify_body_cursor % body_slots;
+            self.verify_body_cursor = self.verify_body_cursor.wrapping_add(1);
+            if let Some((_, h)) = view.bodies.get_unknown_gen(i) {
+                if graph.node_of_body(h).is_none() {
+                    nodes::ensure_body_node(graph, view, h, &mut self.created);
+                }
+            }
+        }
+        let collider_slots =
+            view.colliders.len().max(graph.collider_slot_span()) as u32 + VERIFY_PER_STEP as u32;
+        for _ in 0..VERIFY_PER_STEP {
+            let i = self.verify_collider_cursor % collider_slots;
+            self.verify_collider_cursor = self.verify_collider_cursor.wrapping_add(1);
+            if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
+                if c.is_sensor() {
+                    nodes::ensure_trigger_node(graph, view, h, &mut self.created);
+                } else if c.parent().is_none() {
+                    nodes::ensure_collider_owner(graph, view, h, &mut self.created);
+                }
+            }
+        }
+    }
+
     /// Reports the edges a kind change dropped (ended, with `Vanished` marks) and
     /// regroups their ends.
     pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
         let step = self.step;
+        for n in std::mem::take(&mut graph.evicted) {
+            self.remove_node(graph, groups, n);
+        }
         for n in std::mem::take(&mut graph.kind_changed) {
             groups.disturb(graph, n);
         }
@@ -253,6 +317,7 @@ impl Coherence {
             self.known_bodies = Some(view.bodies.len());
             self.known_colliders = view.colliders.len();
         }
+        self.verify_some(graph, groups, view);
         self.walk.clear();
         for h in view.islands.active_bodies() {
             // Rapier keeps a body turned fixed in its active set: once the graph has it
@@ -285,6 +350,24 @@ impl Coherence {
                 self.mark_refreshed(graph, view, id, h, false);
             } else {
                 self.remove_node(graph, groups, id);
+            }
+        }
+        // Nodes created this step are refreshed once whatever their state: a body
+        // Rapier put to sleep in its very first step (a huge dt), or new static
+        // geometry, still has its pairs read.
+        for i in 0..self.created.len() {
+            let id = self.created[i];
+            match graph.node(id).map(|n| (n.source, n.seen_step)) {
+                Some((NodeSource::Body(h), seen)) if seen != step => {
+                    self.mark_refreshed(graph, view, id, h, false);
+                }
+                Some((NodeSource::StaticCollider(_), _)) => {
+                    if let Some(n) = graph.node_mut(id) {
+                        n.seen_step = step;
+                    }
+                    self.walk.push(id);
+                }
+                _ => {}
             }
         }
         self.awake_prev = prev;
@@ -512,12 +595,18 @@ impl Coherence {
         me: NodeId,
     ) {
         let step = self.step;
-        let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) else {
-            return;
-        };
-        let Some(rb) = view.bodies.get(h) else { return };
+        let mut colliders = std::mem::take(&mut self.scratch_colliders);
+        colliders.clear();
+        match graph.node(me).map(|n| n.source) {
+            Some(NodeSource::Body(h)) => match view.bodies.get(h) {
+                Some(rb) => colliders.extend_from_slice(rb.colliders()),
+                None => return,
+            },
+            Some(NodeSource::StaticCollider(c)) => colliders.push(c),
+            _ => return,
+        }
         self.counters.bodies += 1;
-        for &ch in rb.colliders() {
+        for &ch in &colliders {
             for pair in view.narrow_phase.contact_pairs_with(ch) {
                 self.counters.collider_pairs += 1;
                 let oc = pairs::other_collider(pair, ch);
@@ -533,6 +622,7 @@ impl Coherence {
                 self.process_pair(graph, view, screen, pair);
             }
         }
+        self.scratch_colliders = colliders;
     }
 
     /// Aggregates every Rapier pair with a refreshed body into its edge, in one pass

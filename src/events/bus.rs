@@ -70,10 +70,10 @@ impl EventBus {
         filter: Filter,
         capacity: usize,
     ) -> crate::Result<(SubscriptionId, Receiver<Event>)> {
-        if capacity == 0 {
+        if capacity == 0 || capacity > super::MAX_CAPACITY {
             return Err(crate::Error::InvalidParameter {
                 name: "capacity",
-                reason: "must be at least 1".into(),
+                reason: format!("must be in 1..={}, got {capacity}", super::MAX_CAPACITY),
             });
         }
         let (tx, rx) = bounded(capacity);

@@ -40,6 +40,9 @@ use rapier3d::prelude::RigidBodyHandle;
 
 use crate::graph::NodeId;
 
+/// The largest capacity of a bounded subscription (crossbeam allocates it up front).
+pub const MAX_CAPACITY: usize = 1 << 24;
+
 /// The kinds of event.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[repr(u8)]

@@ -90,6 +90,12 @@ impl<T> Arena<T> {
         self.len
     }
 
+    /// Number of slots, live or free.
+    #[inline]
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
     /// Live values in slot order, with `(index, generation)`.
     pub fn iter(&self) -> impl Iterator<Item = (u32, u32, &T)> + '_ {
         self.slots

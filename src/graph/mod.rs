@@ -60,6 +60,9 @@ pub struct ContactGraph {
     pub(crate) dropped: Vec<Edge>,
     /// Nodes whose kind changed, waiting for their groups to be rebuilt.
     pub(crate) kind_changed: Vec<NodeId>,
+    /// Nodes whose Rapier slot was taken by a newer object (so their object is gone),
+    /// waiting to be removed and reported by the layer.
+    pub(crate) evicted: Vec<NodeId>,
 }
 
 fn kind_slot(kind: NodeKind) -> usize {
@@ -141,6 +144,16 @@ impl ContactGraph {
             NodeSource::StaticCollider(h) if h == collider => Some(id),
             _ => None,
         }
+    }
+
+    /// One past the highest Rapier collider slot the graph has seen.
+    pub(crate) fn collider_slot_span(&self) -> usize {
+        self.collider_nodes.len()
+    }
+
+    /// One past the highest Rapier body slot the graph has seen.
+    pub(crate) fn body_slot_span(&self) -> usize {
+        self.body_nodes.len()
     }
 
     /// The trigger node of a sensor collider. O(1).
@@ -278,14 +291,23 @@ impl ContactGraph {
     /// as seen pushing on `n`, points against gravity (more than `min_cos` of the unit
     /// push along `-gravity`; 0.0 accepts any upward component). O(degree).
     ///
-    /// A zero gravity supports nothing. A stale id is an error.
+    /// A zero gravity supports nothing. A stale id, a non-finite gravity or a NaN
+    /// `min_cos` is an error.
     pub fn try_is_supported(&self, n: NodeId, gravity: Vector, min_cos: Real) -> Result<bool> {
         self.try_node(n)?;
-        let g = gravity.length();
-        if !g.is_finite() || g <= 0.0 {
+        if !gravity.is_finite() {
+            return Err(Error::NonFinite("gravity"));
+        }
+        if min_cos.is_nan() {
+            return Err(Error::NonFinite("min_cos"));
+        }
+        // Scale before normalising: `length()` of a huge or tiny finite vector
+        // overflows or underflows in f32.
+        let scale = gravity.abs().max_element();
+        if scale == 0.0 {
             return Ok(false);
         }
-        let up = -gravity / g;
+        let up = -(gravity / scale).normalize();
         Ok(self.supports_of(n, up, min_cos).next().is_some())
     }
 
@@ -315,6 +337,20 @@ impl ContactGraph {
     // ── Mutation (crate-internal: the layer owns the graph's consistency) ──
 
     pub(crate) fn add_node(&mut self, kind: NodeKind, source: NodeSource) -> NodeId {
+        // A live node still holding the Rapier slot of the new object names an older
+        // generation of that slot: its object was removed (and the slot reused).
+        let occupant = match source {
+            NodeSource::Body(h) => self.body_nodes.get(h.into_raw_parts().0 as usize),
+            NodeSource::StaticCollider(h) | NodeSource::Sensor(h) => {
+                self.collider_nodes.get(h.into_raw_parts().0 as usize)
+            }
+            _ => None,
+        };
+        if let Some(&Some(old)) = occupant {
+            if self.node(old).is_some_and(|n| n.source != source) {
+                self.evicted.push(old);
+            }
+        }
         let (i, g) = self.nodes.insert(Node::new(kind, source, self.clock));
         let id = NodeId::from_raw_parts(i, g);
         match source {

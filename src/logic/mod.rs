@@ -30,7 +30,9 @@ pub use containers::ContainerSource;
 pub use rules::{IgnorePredicate, Rule, RuleTable};
 
 use crate::graph::{ContactGraph, NodeId, NodeSource};
-use rules::Target;
+
+/// The shortest timer period accepted, in simulated seconds.
+pub const MIN_TIMER_PERIOD: f64 = 1e-6;
 
 /// Mutable parts of a Rapier world that the pre-step changes.
 pub struct WorldMut<'a> {
@@ -113,23 +115,10 @@ impl Logic {
 
     /// Rebuilds the rule table (for the hooks and the logical test) from the rules and
     /// the graph. O(rule members).
-    fn rebuild_table(&mut self, graph: &ContactGraph) {
-        let mut targets = Vec::new();
-        for rule in self.rules.values() {
-            for n in rule.members() {
-                match graph.node(n).map(|x| x.source()) {
-                    Some(NodeSource::Body(h)) => targets.push((n, Target::Body(h))),
-                    Some(NodeSource::StaticCollider(c)) | Some(NodeSource::Sensor(c)) => {
-                        targets.push((n, Target::Collider(c)))
-                    }
-                    _ => {}
-                }
-            }
-        }
-        self.hooks.rules.rebuild(
-            self.rules.iter().map(|(n, r)| (*n, r.clone())),
-            targets.into_iter(),
-        );
+    fn rebuild_table(&mut self) {
+        self.hooks
+            .rules
+            .rebuild(self.rules.iter().map(|(n, r)| (*n, r.clone())));
     }
 
     /// The colliders that need the rule hook flags: every collider of every body a rule
@@ -170,7 +159,7 @@ impl Logic {
     ) {
         if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) {
             self.rules_dirty = false;
-            self.rebuild_table(graph);
+            self.rebuild_table();
             let need = self.colliders_needing_flags(graph, world.bodies);
             // Restore colliders no longer concerned (and forget removed ones).
             let mut had: Vec<ColliderHandle> = self.flagged.keys().copied().collect();

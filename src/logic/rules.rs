@@ -15,9 +15,6 @@ use std::collections::HashMap;
 use std::fmt;
 use std::sync::Arc;
 
-use rapier3d::pipeline::PairFilterContext;
-use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
-
 use crate::graph::{NodeId, PairBuildHasher};
 
 /// A user predicate: returns `true` when the interaction of the two nodes must be
@@ -108,9 +105,6 @@ pub struct RuleTable {
     rules: Vec<(NodeId, Rule)>,
     /// Node → indices into `rules` of the rules naming it.
     by_node: HashMap<NodeId, Vec<u32>, PairBuildHasher>,
-    /// Rapier objects → node, for the hooks (which see handles, not nodes).
-    by_body: HashMap<RigidBodyHandle, NodeId>,
-    by_collider: HashMap<ColliderHandle, NodeId>,
 }
 
 impl fmt::Debug for RuleTable {
@@ -122,28 +116,12 @@ impl fmt::Debug for RuleTable {
 }
 
 impl RuleTable {
-    pub(crate) fn rebuild(
-        &mut self,
-        rules: impl Iterator<Item = (NodeId, Rule)>,
-        targets: impl Iterator<Item = (NodeId, Target)>,
-    ) {
+    pub(crate) fn rebuild(&mut self, rules: impl Iterator<Item = (NodeId, Rule)>) {
         self.rules = rules.collect();
         self.by_node.clear();
         for (i, (_, r)) in self.rules.iter().enumerate() {
             for n in r.members() {
                 self.by_node.entry(n).or_default().push(i as u32);
-            }
-        }
-        self.by_body.clear();
-        self.by_collider.clear();
-        for (n, t) in targets {
-            match t {
-                Target::Body(h) => {
-                    self.by_body.insert(h, n);
-                }
-                Target::Collider(c) => {
-                    self.by_collider.insert(c, n);
-                }
             }
         }
     }
@@ -176,38 +154,6 @@ impl RuleTable {
     pub fn names(&self, n: NodeId) -> bool {
         self.by_node.contains_key(&n)
     }
-
-    fn node_of(&self, body: Option<RigidBodyHandle>, collider: ColliderHandle) -> Option<NodeId> {
-        self.by_collider
-            .get(&collider)
-            .or_else(|| body.and_then(|b| self.by_body.get(&b)))
-            .copied()
-    }
-
-    fn ignores_ctx(&self, ctx: &PairFilterContext) -> bool {
-        let a = self.node_of(ctx.rigid_body1, ctx.collider1);
-        let b = self.node_of(ctx.rigid_body2, ctx.collider2);
-        match (a, b) {
-            (Some(a), Some(b)) => self.ignores(a, b),
-            // A predicate may concern a member and any other node; the other side has
-            // no flag and no node in the table: ask with what is known.
-            _ => false,
-        }
-    }
-}
-
-/// How a rule member is seen by the hooks.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub(crate) enum Target {
-    Body(RigidBodyHandle),
-    Collider(ColliderHandle),
-}
-
-impl RuleTable {
-    /// Whether the pair of a Rapier filter context is ignored by a rule.
-    pub(crate) fn ignores_pair(&self, ctx: &PairFilterContext) -> bool {
-        !self.rules.is_empty() && self.ignores_ctx(ctx)
-    }
 }
 
 #[cfg(test)]
@@ -235,10 +181,7 @@ mod tests {
     fn table_indexes_rules_by_node() {
         let mut t = RuleTable::default();
         assert!(!t.ignores(n(1), n(3)));
-        t.rebuild(
-            vec![(n(100), Rule::ignore_between(&[n(1)], &[n(3)]))].into_iter(),
-            std::iter::empty(),
-        );
+        t.rebuild(vec![(n(100), Rule::ignore_between(&[n(1)], &[n(3)]))].into_iter());
         assert!(t.ignores(n(3), n(1)));
         assert!(!t.ignores(n(3), n(2)));
         assert!(t.names(n(1)) && !t.names(n(2)));

@@ -7,9 +7,14 @@
 //! thousand seconds), so it is read as the decimal it prints as (0.01), and the time is
 //! `base + n·dt` with `n` the steps taken since `dt` last changed. A tick is taken as
 //! reached when the time is within a thousandth of a step of it. A step longer than
-//! the period fires every tick it covers, in order.
+//! the period fires every tick it covers, in order (up to [`MAX_TICKS_PER_STEP`] per
+//! step; beyond that the earlier ones are skipped, the tick count stays exact). A step
+//! whose `dt` is not finite and positive advances no time.
 
 use crate::graph::NodeId;
+
+/// The most ticks of one timer reported in one step.
+pub const MAX_TICKS_PER_STEP: u64 = 10_000;
 
 #[derive(Clone, Debug)]
 struct Timer {
@@ -70,6 +75,11 @@ impl Timers {
     /// Advances the time by one step of `dt` and reports the ticks due,
     /// `(timer, tick)` in timer slot order, ticks ascending. O(timers + ticks).
     pub(crate) fn advance(&mut self, dt: f32, out: &mut Vec<(NodeId, u64)>) {
+        // A step that is not a finite positive duration advances no time (Rapier makes
+        // it a zero-length step): the clock never goes NaN or backwards.
+        if !dt.is_finite() || dt <= 0.0 {
+            return;
+        }
         if dt.to_bits() != self.dt_bits || self.steps == 0 {
             self.base = self.time;
             self.steps = 0;
@@ -83,10 +93,19 @@ impl Timers {
         let slack = dt * 1e-3;
         for t in &mut self.list {
             let elapsed = self.time - t.start;
-            while elapsed + slack >= (t.ticks + 1) as f64 * t.period {
-                t.ticks += 1;
-                out.push((t.node, t.ticks));
+            // The ticks due, computed at once (never by adding periods up), and at most
+            // MAX_TICKS_PER_STEP of them reported per step: a step far longer than the
+            // period reports the last ones and skips the rest (the count stays exact).
+            let due = ((elapsed + slack) / t.period).floor();
+            if !due.is_finite() || due <= t.ticks as f64 {
+                continue;
             }
+            let due = due.min(u64::MAX as f64) as u64;
+            let first = (t.ticks + 1).max(due.saturating_sub(MAX_TICKS_PER_STEP - 1));
+            for k in first..=due {
+                out.push((t.node, k));
+            }
+            t.ticks = due;
         }
     }
 }

@@ -213,6 +213,24 @@ pub fn run(
     mut scene: Scene,
     opts: &RunOptions,
 ) -> crate::Result<(RunResult, Trajectory)> {
+    if opts.sample_every == 0 {
+        return Err(crate::Error::InvalidParameter {
+            name: "sample_every",
+            reason: "must be at least 1".into(),
+        });
+    }
+    if !(opts.radius.is_finite() && opts.radius > 0.0) {
+        return Err(crate::Error::InvalidParameter {
+            name: "radius",
+            reason: format!("must be finite and positive, got {}", opts.radius),
+        });
+    }
+    if let Mode::Plain { iterations: 0 } = spec.mode {
+        return Err(crate::Error::InvalidParameter {
+            name: "iterations",
+            reason: "must be at least 1".into(),
+        });
+    }
     let mut layer = ContactLayer::new();
     match &spec.mode {
         Mode::Stock => {}
@@ -236,8 +254,9 @@ pub fn run(
     let mut timed = Duration::ZERO;
     let (mut groups_sum, mut awake_sum) = (0.0f64, 0.0f64);
     let mut max_vars = 0u32;
-    let mut awake_series = Vec::with_capacity(opts.steps as usize);
-    let mut step_us = Vec::with_capacity(opts.steps as usize);
+    let reserve = opts.steps.min(1 << 20) as usize;
+    let mut awake_series = Vec::with_capacity(reserve);
+    let mut step_us = Vec::with_capacity(reserve);
     let mut final_awake = 0usize;
     for step in 0..opts.steps {
         scene.before_step(step);

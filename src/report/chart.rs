@@ -312,7 +312,12 @@ fn widen(lo: f64, hi: f64) -> (f64, f64) {
         (0.0, 1.0)
     } else {
         let d = lo.abs() * 0.5;
-        (lo - d, hi + d)
+        if d.is_normal() && (lo - d) < lo && (hi + d) > hi {
+            (lo - d, hi + d)
+        } else {
+            // A subnormal range (or one the half-width cannot widen): a unit around it.
+            (lo - 0.5, hi + 0.5)
+        }
     }
 }
 
@@ -332,8 +337,13 @@ fn nice_ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
         .map(|m| m * base)
         .min_by(|a, b| (a / raw).ln().abs().total_cmp(&(b / raw).ln().abs()))
         .unwrap_or(base);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step + 1e-9).floor() as i64;
+    let first = (lo / step).ceil();
+    let last = (hi / step + 1e-9).floor();
+    // A degenerate step (an underflowed range) gives the two ends only.
+    if !(step.is_normal() && first.is_finite() && last.is_finite() && last - first < 10_000.0) {
+        return (vec![lo, hi], 3);
+    }
+    let (first, last) = (first as i64, last as i64);
     let ticks = (first..=last)
         .map(|k| if k == 0 { 0.0 } else { k as f64 * step })
         .collect();

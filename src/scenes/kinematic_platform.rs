@@ -23,7 +23,7 @@ pub const BOX_HALF: Real = 0.25;
 /// The platform's x position once step `step` (0-based) has run, for time step `dt`:
 /// `(step + 1) * dt * PLATFORM_SPEED`, computed in `f64` so it does not accumulate error.
 pub fn platform_x_after(step: u64, dt: Real) -> Real {
-    ((step + 1) as f64 * dt as f64 * PLATFORM_SPEED as f64) as Real
+    (step.saturating_add(1) as f64 * dt as f64 * PLATFORM_SPEED as f64) as Real
 }
 
 /// Builds the scene. Bodies: `"ground"` (fixed), `"platform"` (kinematic, position

@@ -74,7 +74,7 @@ impl Scene {
 
     /// Convenience: before_step + world.step(), `n` times, starting at step index `first`.
     pub fn run_plain(&mut self, first: u64, n: u64) {
-        for step in first..first + n {
+        for step in first..first.saturating_add(n) {
             self.before_step(step);
             self.world.step();
         }
