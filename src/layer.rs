@@ -136,18 +136,34 @@ impl ContactLayer {
         match config {
             Some(c) => {
                 c.validate()?;
+                let was = self.speedups().map(|s| s.config().subgroup);
+                if was.unwrap_or(false) != c.subgroup {
+                    self.regroup_all();
+                }
                 match &mut self.speedups {
                     Some(s) => s.reconfigure(c),
                     None => self.speedups = Some(SpeedUpState::new(c)),
                 }
             }
             None => {
+                if self.speedups().is_some_and(|s| s.config().subgroup) {
+                    self.regroup_all();
+                }
                 if let Some(s) = &mut self.speedups {
                     s.detach();
                 }
             }
         }
         Ok(())
+    }
+
+    /// Dissolves every group (their bodies are regrouped at the next analysis), when
+    /// what insulates changes. O(groups).
+    fn regroup_all(&mut self) {
+        let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
+        for id in ids {
+            self.groups.dissolve(&mut self.graph, id);
+        }
     }
 
     /// The speed-ups' state, if they are on.
@@ -182,10 +198,17 @@ impl ContactLayer {
         // Containers follow the joints; bodies whose structure changed are regrouped
         // (and their kind refreshed: multibody links are `Link`s).
         let mut created = Vec::new();
-        let changed = self
-            .logic
-            .containers
-            .sync(&mut self.graph, &view, step, &mut created, false);
+        // Kind changes (a jointed body turned fixed, e.g. by fixation) change which
+        // bodies a container holds: resync then.
+        let force = self.coherence.kind_changes() > 0;
+        let changed = self.logic.containers.sync(
+            &mut self.graph,
+            &view,
+            step,
+            &mut created,
+            force,
+            &mut self.groups,
+        );
         for n in changed.into_iter().chain(created) {
             if let Some(h) = self.graph.body_of(n) {
                 let mut sink = Vec::new();

@@ -92,6 +92,8 @@ pub struct Coherence {
     verify_cursor: u32,
     verify_body_cursor: u32,
     verify_collider_cursor: u32,
+    /// Node kind changes in the last step.
+    kind_changes: usize,
 }
 
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
@@ -160,6 +162,10 @@ impl Coherence {
     /// order they were refreshed.
     pub fn sleep_changes(&self) -> &[(NodeId, bool)] {
         &self.sleep_changes
+    }
+    /// Node kind changes seen in the last step.
+    pub fn kind_changes(&self) -> usize {
+        self.kind_changes
     }
     /// Counters of the last pair walk.
     pub fn counters(&self) -> WalkCounters {
@@ -247,6 +253,7 @@ impl Coherence {
             self.remove_node(graph, groups, n);
         }
         for n in std::mem::take(&mut graph.kind_changed) {
+            self.kind_changes += 1;
             groups.disturb(graph, n);
         }
         for mut e in std::mem::take(&mut graph.dropped) {
@@ -303,6 +310,7 @@ impl Coherence {
         self.created.clear();
         self.sleep_changes.clear();
         self.passive_changed.clear();
+        self.kind_changes = 0;
         self.counters = WalkCounters::default();
 
         // 1. Node upkeep.
@@ -537,23 +545,27 @@ impl Coherence {
             if n.seen_step == step {
                 return;
             }
-            let (was_awake, was_passive) = (n.awake, n.passive);
+            let was_passive = n.passive;
             n.seen_step = step;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
             n.non_finite = !finite;
             n.passive = !enabled;
-            // A body created this step does not "wake up" or "fall asleep": it starts;
-            // nor does a body made passive or active again (passive is not asleep).
-            let passive_change = was_passive || n.passive;
             if was_passive != n.passive {
                 self.passive_changed.push(id);
             }
-            if n.kind.is_simulated()
-                && was_awake != n.awake
-                && n.born_step != step
-                && !passive_change
-            {
-                self.sleep_changes.push((id, n.awake));
+            // Sleep events report changes of a simulated, non-passive body's state
+            // against the last reported one: a body created this step starts (no
+            // event), a passive spell or a time as a fixed body reports nothing, and
+            // the events alternate.
+            if n.kind.is_simulated() && !n.passive {
+                match n.reported_awake {
+                    None => n.reported_awake = Some(n.awake),
+                    Some(r) if r != n.awake && n.born_step != step => {
+                        n.reported_awake = Some(n.awake);
+                        self.sleep_changes.push((id, n.awake));
+                    }
+                    Some(_) => n.reported_awake = Some(n.awake),
+                }
             }
             self.walk.push(id);
         }
@@ -646,7 +658,7 @@ impl Coherence {
             let (eid, flip) = match cached {
                 Some(s) => (s.edge, s.flip),
                 None => {
-                    let Some((eid, flip)) = self.edge_of_pair(graph, view, pair) else {
+                    let Some((eid, flip)) = self.edge_of_pair(graph, view, screen, pair) else {
                         continue;
                     };
                     let slot = PairSlot {
@@ -680,11 +692,13 @@ impl Coherence {
         &mut self,
         graph: &mut ContactGraph,
         view: &WorldView,
+        screen: &Screen,
         pair: &ContactPair,
     ) -> Option<(EdgeId, bool)> {
         let n1 = self.owner_of(graph, view, pair.collider1)?;
         let n2 = self.owner_of(graph, view, pair.collider2)?;
-        if n1 == n2 {
+        // Screened pairs (passive end, rule) make no edge (Fig. 4).
+        if n1 == n2 || !screen.admits(graph, n1, n2) {
             return None;
         }
         let eid = pairs::physical_edge_for(graph, n1, n2, self.step)?;
@@ -699,11 +713,8 @@ impl Coherence {
         screen: &Screen,
         pair: &ContactPair,
     ) {
-        if let Some((eid, flip)) = self.edge_of_pair(graph, view, pair) {
-            let Some(e) = graph.edge(eid) else { return };
-            if screen.admits(graph, e.a, e.b) {
-                self.feed_edge(graph, view, eid, pair, flip);
-            }
+        if let Some((eid, flip)) = self.edge_of_pair(graph, view, screen, pair) {
+            self.feed_edge(graph, view, eid, pair, flip);
         }
     }
 

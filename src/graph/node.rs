@@ -137,6 +137,10 @@ pub struct Node {
     pub(crate) born_step: u64,
     /// For a trigger: the body carrying its sensor collider, if any.
     pub(crate) carrier: Option<RigidBodyHandle>,
+    /// The sleep state last reported by a `FellAsleep` / `WokeUp` event (or the state
+    /// the body was first seen in): events are sent only when it changes, so they
+    /// alternate whatever happens in between (passive spells, fixation, retyping).
+    pub(crate) reported_awake: Option<bool>,
 }
 
 impl Node {
@@ -153,6 +157,7 @@ impl Node {
             passive: false,
             born_step,
             carrier: None,
+            reported_awake: None,
         }
     }
 

@@ -17,7 +17,11 @@ pub(crate) fn edge_allowed(kind: EdgeKind, x: NodeKind, y: NodeKind) -> bool {
     match kind {
         // Physical edges need a body the solver moves: no F–F, S–S, F–S.
         EdgeKind::Physical => physical(x) && physical(y) && (x.is_simulated() || y.is_simulated()),
-        EdgeKind::Logical => pair(|k| k == NodeKind::Rule, physical),
+        // Rules name bodies (Table 2) and, in this crate, triggers too.
+        EdgeKind::Logical => pair(
+            |k| k == NodeKind::Rule,
+            |k| k.category() == Category::Physical || k == NodeKind::Trigger,
+        ),
         EdgeKind::Geometric => pair(|k| k == NodeKind::Trigger, physical),
         EdgeKind::Structural => pair(|k| k.category() == Category::Container, physical),
     }

@@ -73,7 +73,7 @@ impl ContainerSource {
 /// The joint-derived containers of a layer.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Containers {
-    signature: Option<(usize, usize, usize)>,
+    signature: Option<u64>,
     nodes: BTreeMap<ContainerSource, NodeId>,
 }
 
@@ -101,17 +101,33 @@ impl Containers {
         step: u64,
         created: &mut Vec<NodeId>,
         force: bool,
+        groups: &mut crate::Groups,
     ) -> Vec<NodeId> {
-        let links: usize = view
-            .multibody_joints
-            .multibodies()
-            .map(|m| m.num_links())
-            .sum();
-        let signature = (
-            view.impulse_joints.len(),
-            view.multibody_joints.multibodies().count(),
-            links,
-        );
+        // A fingerprint of the joints (which bodies they join, fixed or not): a joint
+        // swapped for another between two steps changes it even when the counts do not.
+        // O(joints + links); nothing without joints.
+        let mut fp: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut mix = |v: u64| {
+            fp ^= v;
+            fp = fp.wrapping_mul(0x0000_0100_0000_01b3);
+        };
+        for (jh, j) in view.impulse_joints.iter() {
+            let (i, g) = jh.into_raw_parts();
+            mix(((g as u64) << 32) | i as u64);
+            for b in [j.body1(), j.body2()] {
+                let (i, g) = b.into_raw_parts();
+                mix(((g as u64) << 32) | i as u64);
+            }
+            mix(j.data.locked_axes.bits() as u64);
+        }
+        for mb in view.multibody_joints.multibodies() {
+            for l in mb.links() {
+                let (i, g) = l.rigid_body_handle().into_raw_parts();
+                mix(((g as u64) << 32) | i as u64);
+            }
+            mix(u64::MAX);
+        }
+        let signature = fp;
         if !force && self.signature == Some(signature) {
             return Vec::new();
         }
@@ -192,6 +208,9 @@ impl Containers {
         for k in stale {
             if let Some(n) = self.nodes.remove(&k) {
                 changed.extend(graph.neighbors(n).map(|(m, _, _)| m));
+                if let Some(g) = graph.node(n).and_then(|x| x.group()) {
+                    groups.dissolve(graph, g);
+                }
                 graph.remove_node(n);
             }
         }
