@@ -608,14 +608,9 @@ impl Coherence {
     ) {
         let step = self.step;
         let mut colliders = std::mem::take(&mut self.scratch_colliders);
-        colliders.clear();
-        match graph.node(me).map(|n| n.source) {
-            Some(NodeSource::Body(h)) => match view.bodies.get(h) {
-                Some(rb) => colliders.extend_from_slice(rb.colliders()),
-                None => return,
-            },
-            Some(NodeSource::StaticCollider(c)) => colliders.push(c),
-            _ => return,
+        if !colliders_of(graph, view, me, &mut colliders) {
+            self.scratch_colliders = colliders;
+            return;
         }
         self.counters.bodies += 1;
         for &ch in &colliders {
@@ -852,15 +847,12 @@ impl Coherence {
         me: NodeId,
     ) {
         let step = self.step;
-        let colliders: Vec<ColliderHandle> = match graph.node(me).map(|n| n.source) {
-            Some(NodeSource::Body(h)) => match view.bodies.get(h) {
-                Some(rb) => rb.colliders().to_vec(),
-                None => return,
-            },
-            Some(NodeSource::StaticCollider(c)) => vec![c],
-            _ => return,
-        };
-        for ch in colliders {
+        let mut colliders = std::mem::take(&mut self.scratch_colliders);
+        if !colliders_of(graph, view, me, &mut colliders) {
+            self.scratch_colliders = colliders;
+            return;
+        }
+        for &ch in &colliders {
             if view.colliders.get(ch).is_none_or(|c| c.is_sensor()) {
                 continue;
             }
@@ -879,6 +871,7 @@ impl Coherence {
                 }
             }
         }
+        self.scratch_colliders = colliders;
     }
 
     /// Adds one intersecting sensor–collider pair to the geometric edge of the trigger
@@ -933,6 +926,31 @@ impl Screen<'_> {
     pub(crate) fn admits(&self, graph: &ContactGraph, a: NodeId, b: NodeId) -> bool {
         let passive = |n| graph.node(n).is_none_or(|n| n.passive);
         !passive(a) && !passive(b) && !self.rules.ignores(a, b)
+    }
+}
+
+/// Fills `out` with the colliders a node owns (a body's colliders, or a static
+/// collider itself); `false` for other nodes and bodies that are gone.
+fn colliders_of(
+    graph: &ContactGraph,
+    view: &WorldView,
+    n: NodeId,
+    out: &mut Vec<ColliderHandle>,
+) -> bool {
+    out.clear();
+    match graph.node(n).map(|n| n.source) {
+        Some(NodeSource::Body(h)) => match view.bodies.get(h) {
+            Some(rb) => {
+                out.extend_from_slice(rb.colliders());
+                true
+            }
+            None => false,
+        },
+        Some(NodeSource::StaticCollider(c)) => {
+            out.push(c);
+            true
+        }
+        _ => false,
     }
 }
 
