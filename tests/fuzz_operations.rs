@@ -16,8 +16,8 @@
 //!   body to sleep (`RigidBody::sleep`) or wake it; add or remove an impulse joint
 //!   (fixed or revolute) and a multibody joint (revolute);
 //! - **layer:** make a body passive or active (`set_passive`); add or remove a rule
-//!   (`Rule::ignore_pair`, `Rule::ignore_between` on live body nodes), a timer, a
-//!   declared composite; subscribe (bounded or not, filtered by kind and node),
+//!   (`Rule::ignore_pair`, `Rule::ignore_between` on live body, static-collider and
+//!   trigger nodes), a timer, a declared composite; subscribe (bounded or not, filtered by kind and node),
 //!   unsubscribe, drop a receiver; switch the speed-ups on, off or to another
 //!   combination (`set_speedups(Some(SpeedUps::combination(bits)))` / `None`);
 //!   `request_full_sync`;
@@ -31,23 +31,29 @@
 //! *sleeping, fixed or passive* body in place (type change, moving a fixed body or a
 //! parentless collider), and after an insertion and a removal between the same two
 //! steps (`audit`, B1: otherwise found within `nodes / VERIFY_PER_STEP` steps only).
+//! It keeps no invariant of its own: it reads the world and the layer after each step.
 //!
 //! # Known bugs the generator steers clear of
-//! Each bug found is a minimised regression test at the end of this file, marked
-//! `#[ignore = "bug: ..."]`. So that the fuzzing goes on finding new ones, the harness
-//! avoids what triggers the known ones (each place says which test it avoids):
-//! rules name no trigger; jointed bodies keep their type; at most one joint change
-//! between two steps, and none while a jointed body is disabled or a container is
-//! grouped without its members; no fixation or subgrouping while joints or declared
-//! composites exist, and no joint or composite added while they are on; no fixation of
-//! sensor carriers; no sensor on a fixed body, no sensor toggle on a fixed body's
-//! collider, no removal of a fixed body's collider; fixed geometry moves, and bodies
-//! turn fixed or stop being so, only while no sensor is fixed (parentless or on a
-//! fixed body), and every body is woken after fixed geometry moved; no collider or
-//! joint added to a passive body; no passive multibody member; `RigidBody::sleep` only
-//! on a dynamic body and only when nothing changed since the last step; a sensor
-//! toggle always requests a full sync. Rapier's own preconditions are kept too
-//! (multibody links dynamic, a link gets one parent).
+//! Each bug found is a minimised regression test at the end of this file: `bug_*`,
+//! marked `#[ignore = "bug: ..."]`, for the open ones; `fixed_*` for those fixed since
+//! (they failed when found). So that the fuzzing goes on finding new bugs, the harness
+//! avoids what triggers the open ones (each place names the test):
+//! - no rule names both a trigger and static geometry;
+//! - no sensor on a fixed or passive body, no sensor toggle on a fixed or passive
+//!   body's collider or while fixating, no removal of a fixed body's collider, no
+//!   fixation while a body carries a sensor;
+//! - fixed geometry moves (a fixed body teleported, a parentless collider moved, a
+//!   collider added to a fixed body), and bodies turn fixed or stop being so, only
+//!   while no sensor is fixed (parentless or on a fixed body); every body is woken
+//!   after such a move or addition; `RigidBody::sleep` only on a dynamic body and only
+//!   when nothing changed since the last step;
+//! - a sensor toggle always requests a full sync;
+//! - no multibody joint added while fixating;
+//! - Rapier's own panics and preconditions: multibody links stay dynamic and get one
+//!   parent; no multibody member is made passive or active; no joint to a passive
+//!   body, no passive body jointed to a body that is not dynamic or is passive, no
+//!   jointed body made passive while fixating, no fixation while a jointed body is
+//!   passive.
 //!
 //! # What is checked after every step
 //! Nothing panics (a panic anywhere is a failure), and:
@@ -56,16 +62,14 @@
 //! 2. the **event contract** of `events`, by a checker of our own subscribed to every
 //!    event: pair events name *A* (smaller slot) first; every `Begin` is followed by
 //!    `Persist`s and one `End`; touch spans nest in proximity spans; `Enter`/`Exit`
-//!    alternate; `FellAsleep`/`WokeUp` alternate (restarted across the transitions the
-//!    known bugs leave unreported: type changes, fixation, passive toggles, Rapier's
-//!    quarantine) and agree with the node's awake flag; ticks count up by one;
-//!    `Persist` names a pair with an awake body; no `Begin`, `Persist`, `Enter` or
-//!    sleep event names a pair a rule in force during the step ignores, or a body
-//!    passive during the step (ends are allowed: they close spans); every event
-//!    carries the step's index; the open spans equal the graph's proximate, touching
+//!    alternate; `FellAsleep`/`WokeUp` alternate and agree with the node's awake flag;
+//!    ticks count up by one; `Persist` names a pair with an awake body; no `Begin`,
+//!    `Persist`, `Enter` or sleep event names a pair a rule in force during the step
+//!    ignores, or a body passive during the step (ends are allowed: they close
+//!    spans); every event carries the step's index; the open spans equal the graph's proximate, touching
 //!    and geometric edges. The shared `ContractLog` of `tests/common` runs too (its
 //!    `passive` set kept to the bodies passive during the step, with its
-//!    `agrees_with(layer)`) until the first such restart, which it cannot follow;
+//!    `agrees_with(layer)`);
 //! 3. **subscriptions:** the contract subscriber receives exactly `last_events()`;
 //!    every other subscription receives exactly the events of the step that match its
 //!    filter (kinds, nodes with container membership), a bounded one the first
@@ -673,7 +677,7 @@ pub mod harness {
         changed: bool,
         /// The shared contract checker of `tests/common`.
         #[cfg(test)]
-        log: Option<crate::common::contract::ContractLog>,
+        log: crate::common::contract::ContractLog,
     }
 
     impl Default for Harness {
@@ -709,7 +713,7 @@ pub mod harness {
             let mut layer = ContactLayer::new();
             let rx = layer.subscribe(Filter::all());
             #[cfg(test)]
-            let log = Some(crate::common::contract::ContractLog::attach(&mut layer));
+            let log = crate::common::contract::ContractLog::attach(&mut layer);
             Self {
                 world,
                 layer,
@@ -1081,8 +1085,9 @@ pub mod harness {
                     // dynamic or is passive: Rapier panics then, known bugs (Rapier's),
                     // see `bug_set_passive_on_a_multibody_root_panics_in_rapier` and
                     // `bug_a_joint_to_a_passive_body_panics_in_rapier`.
-                    // (Nor is a multibody member re-enabled: Rapier may have quarantined
-                    // it, and re-enabled it panics the same way.)
+                    // Nor, while fixating, a jointed body (a fixated partner would be a
+                    // fixed one). Nor is a multibody member re-enabled: Rapier may have
+                    // quarantined it, and re-enabling it panics the same way.
                     let ok = |h: RigidBodyHandle| {
                         let partners = self.partners(h);
                         self.world.multibody_joints.rigid_body_link(h).is_none()
@@ -1349,8 +1354,8 @@ pub mod harness {
         pub fn step(&mut self) -> Result<(), String> {
             let in_force = self.in_force();
             #[cfg(test)]
-            if let Some(log) = &mut self.log {
-                log.passive = in_force.passive.clone();
+            {
+                self.log.passive = in_force.passive.clone();
             }
             self.layer.step(&mut self.world);
             (self.added, self.removed, self.changed) = (false, false, false);
@@ -1393,9 +1398,9 @@ pub mod harness {
             }
             self.contract.agrees_with(layer)?;
             #[cfg(test)]
-            if let Some(log) = &mut self.log {
-                log.drain();
-                log.agrees_with(layer);
+            {
+                self.log.drain();
+                self.log.agrees_with(layer);
             }
             // 3. Subscriptions.
             for s in &self.subs {
