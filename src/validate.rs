@@ -217,6 +217,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             ));
         }
     }
+    let mut pointing: HashMap<crate::GroupId, usize, PairBuildHasher> = HashMap::default();
     for (id, node) in graph.nodes() {
         let simulated = node.kind().is_simulated();
         if simulated
@@ -231,7 +232,11 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             let Some(g) = groups.get(gid) else {
                 return fail(format!("node {id:?} points to dead group {gid:?}"));
             };
-            if !g.bodies.contains(&id) {
+            // Every member points back (checked above), so a node pointing to a group
+            // that does not hold it makes the group's pointer count exceed its size.
+            let n = pointing.entry(gid).or_insert(0usize);
+            *n += 1;
+            if *n > g.bodies.len() {
                 return fail(format!(
                     "node {id:?} points to group {gid:?} not holding it"
                 ));

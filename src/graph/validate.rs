@@ -35,22 +35,32 @@ impl ContactGraph {
     pub fn validate(&self) -> Result<()> {
         let mut kind_counts = [0usize; 9];
         let mut adjacency_total = 0usize;
+        // For each edge, whether its A and its B list it: linear in the adjacency,
+        // and catches duplicates and missing entries without a per-node search.
+        let mut listed: std::collections::HashMap<
+            crate::EdgeId,
+            (bool, bool),
+            super::PairBuildHasher,
+        > = std::collections::HashMap::default();
         for (id, node) in self.nodes() {
             kind_counts[NodeKind::ALL
                 .iter()
                 .position(|k| *k == node.kind)
                 .unwrap_or(0)] += 1;
             adjacency_total += node.edges.len();
-            for (i, &eid) in node.edges.iter().enumerate() {
+            for &eid in &node.edges {
                 let Some(e) = self.edge(eid) else {
                     return fail(format!("node {id:?} lists dead edge {eid:?}"));
                 };
                 if e.a != id && e.b != id {
                     return fail(format!("node {id:?} lists edge {eid:?} not incident to it"));
                 }
-                if node.edges[..i].contains(&eid) {
+                let seen = listed.entry(eid).or_insert((false, false));
+                let flag = if e.a == id { &mut seen.0 } else { &mut seen.1 };
+                if *flag {
                     return fail(format!("node {id:?} lists edge {eid:?} twice"));
                 }
+                *flag = true;
             }
             match node.source {
                 NodeSource::Body(h) => {
@@ -119,7 +129,7 @@ impl ContactGraph {
             if self.edge_by_key(PairKey::of(e.a, e.b)) != Some(eid) {
                 return fail(format!("pair map does not give {eid:?}"));
             }
-            if !na.edges.contains(&eid) || !nb.edges.contains(&eid) {
+            if listed.get(&eid) != Some(&(true, true)) {
                 return fail(format!("edge {eid:?} missing from an adjacency list"));
             }
             if !edge_allowed(e.kind, na.kind, nb.kind) {
