@@ -200,30 +200,24 @@ impl Coherence {
     /// without a full scan. O(VERIFY_PER_STEP).
     fn verify_some(&mut self, graph: &mut ContactGraph, groups: &mut Groups, view: &WorldView) {
         let slots = graph.nodes.slot_count() as u32;
-        if slots > 0 {
-            for _ in 0..VERIFY_PER_STEP.min(slots as usize) {
-                let i = self.verify_cursor % slots;
-                self.verify_cursor = self.verify_cursor.wrapping_add(1);
-                let Some(id) = graph.node_id_at(i) else {
-                    continue;
-                };
-                let Some(source) = graph.node(id).map(|n| n.source) else {
-                    continue;
-                };
-                if !nodes::source_exists(view, source) {
-                    self.remove_node(graph, groups, id);
-                } else if let NodeSource::Body(h) = source {
-                    nodes::ensure_body_node(graph, view, h, &mut self.created);
-                }
+        for i in round_robin(&mut self.verify_cursor, slots, VERIFY_PER_STEP) {
+            let Some(id) = graph.node_id_at(i) else {
+                continue;
+            };
+            let Some(source) = graph.node(id).map(|n| n.source) else {
+                continue;
+            };
+            if !nodes::source_exists(view, source) {
+                self.remove_node(graph, groups, id);
+            } else if let NodeSource::Body(h) = source {
+                nodes::ensure_body_node(graph, view, h, &mut self.created);
             }
         }
-        // Rapier's arena may hold free slots beyond `len()`: cover the highest body slot
-        // the graph has seen too.
+        // Rapier's arenas may hold free slots beyond `len()`: cover the highest slot the
+        // graph has seen too.
         let body_slots =
             view.bodies.len().max(graph.body_slot_span()) as u32 + VERIFY_PER_STEP as u32;
-        for _ in 0..VERIFY_PER_STEP {
-            let i = self.verify_body_cursor % body_slots;
-            self.verify_body_cursor = self.verify_body_cursor.wrapping_add(1);
+        for i in round_robin(&mut self.verify_body_cursor, body_slots, VERIFY_PER_STEP) {
             if let Some((_, h)) = view.bodies.get_unknown_gen(i) {
                 if graph.node_of_body(h).is_none() {
                     nodes::ensure_body_node(graph, view, h, &mut self.created);
@@ -232,9 +226,11 @@ impl Coherence {
         }
         let collider_slots =
             view.colliders.len().max(graph.collider_slot_span()) as u32 + VERIFY_PER_STEP as u32;
-        for _ in 0..VERIFY_PER_STEP {
-            let i = self.verify_collider_cursor % collider_slots;
-            self.verify_collider_cursor = self.verify_collider_cursor.wrapping_add(1);
+        for i in round_robin(
+            &mut self.verify_collider_cursor,
+            collider_slots,
+            VERIFY_PER_STEP,
+        ) {
             if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
                 if c.is_sensor() {
                     nodes::ensure_trigger_node(graph, view, h, &mut self.created);
@@ -927,6 +923,19 @@ impl Screen<'_> {
         let passive = |n| graph.node(n).is_none_or(|n| n.passive);
         !passive(a) && !passive(b) && !self.rules.ignores(a, b)
     }
+}
+
+/// The next `n` slots (at most `span`) after a round-robin cursor, advancing it by as
+/// many.
+fn round_robin(cursor: &mut u32, span: u32, n: usize) -> impl Iterator<Item = u32> {
+    let count = if span == 0 {
+        0
+    } else {
+        n.min(span as usize) as u32
+    };
+    let start = *cursor;
+    *cursor = start.wrapping_add(count);
+    (0..count).map(move |k| start.wrapping_add(k) % span.max(1))
 }
 
 /// Fills `out` with the colliders a node owns (a body's colliders, or a static

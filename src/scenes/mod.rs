@@ -89,3 +89,23 @@ pub(crate) fn new_world() -> PhysicsWorld {
     world.integration_parameters.dt = DT;
     world
 }
+
+/// Helpers shared by the scenes' unit tests.
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::Scene;
+    use rapier3d::prelude::ColliderHandle;
+
+    /// The first collider of a named body.
+    pub(crate) fn collider(scene: &Scene, name: &str) -> ColliderHandle {
+        scene.world.bodies[scene.body(name).unwrap()].colliders()[0]
+    }
+
+    /// Whether two colliders have an active contact.
+    pub(crate) fn touching(scene: &Scene, a: ColliderHandle, b: ColliderHandle) -> bool {
+        scene
+            .world
+            .contact_pair(a, b)
+            .is_some_and(|p| p.has_any_active_contact())
+    }
+}

@@ -93,18 +93,8 @@ pub fn pendulum_wall() -> Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenes::test_util::{collider, touching};
     use rapier3d::prelude::ColliderHandle;
-
-    fn collider(scene: &Scene, name: &str) -> ColliderHandle {
-        scene.world.bodies[scene.body(name).unwrap()].colliders()[0]
-    }
-
-    fn touching(scene: &Scene, a: ColliderHandle, b: ColliderHandle) -> bool {
-        scene
-            .world
-            .contact_pair(a, b)
-            .is_some_and(|p| p.has_any_active_contact())
-    }
 
     #[test]
     fn the_chain_swings_into_the_wall() {

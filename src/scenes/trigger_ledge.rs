@@ -82,18 +82,7 @@ pub fn trigger_ledge() -> Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rapier3d::prelude::ColliderHandle;
-
-    fn collider(scene: &Scene, name: &str) -> ColliderHandle {
-        scene.world.bodies[scene.body(name).unwrap()].colliders()[0]
-    }
-
-    fn touching(scene: &Scene, a: ColliderHandle, b: ColliderHandle) -> bool {
-        scene
-            .world
-            .contact_pair(a, b)
-            .is_some_and(|p| p.has_any_active_contact())
-    }
+    use crate::scenes::test_util::{collider, touching};
 
     /// Steps 1..=300 (1-based): when the ball was inside the trigger, when it last
     /// touched the table, when it first touched the floor.
