@@ -31,6 +31,7 @@ use crate::graph::{Category, ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeK
 use crate::groups::{GroupStats, Groups};
 use crate::hooks::HooksView;
 use crate::logic::{Logic, Rule, WorldMut};
+use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig};
 use crate::speedups::{SpeedUpState, SpeedUps};
 use crate::{Error, Result, WorldView};
 
@@ -51,6 +52,9 @@ pub struct StepStats {
     pub groups: GroupStats,
     /// Events generated in the step (before filtering per subscription).
     pub events: usize,
+    /// Violations the monitor found in the step (0 with the monitor off; see
+    /// [`ContactLayer::set_monitor`]).
+    pub violations: usize,
 }
 
 /// The contact graph layer.
@@ -73,6 +77,10 @@ pub struct ContactLayer {
     ticks: Vec<(NodeId, u64)>,
     events: Vec<Event>,
     speedups: Option<SpeedUpState>,
+    monitor: Option<LayerMonitor>,
+    monitor_events: Vec<Event>,
+    /// Set when the monitor goes off: the next pre-step undoes its repairs' changes.
+    monitor_restore: Option<LayerMonitor>,
 }
 
 impl Default for ContactLayer {
@@ -96,6 +104,9 @@ impl ContactLayer {
             ticks: Vec::new(),
             events: Vec::new(),
             speedups: None,
+            monitor: None,
+            monitor_events: Vec::new(),
+            monitor_restore: None,
         }
     }
 
@@ -120,8 +131,112 @@ impl ContactLayer {
         self.colliders_seen = world.colliders.len();
         self.logic
             .pre_step(&self.graph, &mut world, colliders_changed);
+        if let Some(mut m) = self.monitor_restore.take() {
+            m.restore(&mut world);
+        }
+        if let Some(m) = &mut self.monitor {
+            let mut woken = Vec::new();
+            m.apply(
+                &mut world,
+                &self.graph,
+                &self.groups,
+                self.speedups.as_mut(),
+                &mut self.logic.hooks.mods,
+                &mut woken,
+            );
+            let suspend = m.thinning_suspended();
+            if let Some(s) = &mut self.speedups {
+                s.suspend_thinning = suspend;
+                if s.config().subgroup {
+                    // Woken bodies stop insulating: regroup them.
+                    for n in woken {
+                        self.groups.disturb(&mut self.graph, n);
+                    }
+                }
+            }
+        }
         if let Some(s) = &mut self.speedups {
             s.pre_step(&mut world, &mut self.logic.hooks.mods);
+        }
+    }
+
+    /// Sets the plausibility monitor ([`crate::monitor`], DESIGN §6) the layer runs
+    /// after each analysis: [`MonitorMode::Off`] removes it; [`MonitorMode::Report`]
+    /// counts violations ([`StepStats::violations`]) and sends them as
+    /// [`crate::events::EventKind::Violation`] events; [`MonitorMode::Repair`] also
+    /// acts on them (see [`crate::monitor::LayerMonitor`]). Invalid thresholds are an
+    /// error and change nothing. Changing the mode keeps the detectors' totals;
+    /// changing the thresholds starts a new monitor. O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.5, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer
+    ///     .set_monitor(MonitorMode::Repair, MonitorConfig::default(), RepairConfig::default())
+    ///     .unwrap();
+    /// for _ in 0..100 {
+    ///     assert_eq!(layer.step(&mut world).violations, 0);
+    /// }
+    /// assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
+    /// ```
+    pub fn set_monitor(
+        &mut self,
+        mode: MonitorMode,
+        config: MonitorConfig,
+        repair: RepairConfig,
+    ) -> Result<()> {
+        config.validate()?;
+        repair.validate()?;
+        if mode == MonitorMode::Off {
+            if let Some(m) = self.monitor.take() {
+                self.monitor_restore = Some(m);
+            }
+            return Ok(());
+        }
+        match &mut self.monitor {
+            Some(m) if m.monitor.config() == &config && m.repair_config() == &repair => {
+                m.set_mode(mode);
+            }
+            _ => {
+                if let Some(old) = self.monitor.take() {
+                    self.monitor_restore = Some(old);
+                }
+                self.monitor = Some(LayerMonitor::new(mode, config, repair)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Primes the monitor's launch check with the world as it is now (see
+    /// [`crate::monitor::Monitor::prime`]): call it before the first step. No-op with
+    /// the monitor off. O(bodies).
+    pub fn prime_monitor(&mut self, view: &WorldView) {
+        if let Some(m) = &mut self.monitor {
+            m.monitor.prime(view);
+        }
+    }
+
+    /// The layer's monitor, if it is on. O(1).
+    pub fn monitor(&self) -> Option<&LayerMonitor> {
+        self.monitor.as_ref()
+    }
+
+    /// Tells the monitor that the caller pushed `body` before this step (set its
+    /// velocity, applied an impulse or a force): its contact group gets no launch check
+    /// in the step's analysis. Stale handles are ignored. O(1).
+    pub fn mark_pushed(&mut self, body: RigidBodyHandle) {
+        if let Some(m) = &mut self.monitor {
+            m.pushed.push(body);
         }
     }
 
@@ -274,6 +389,45 @@ impl ContactLayer {
             }
         }
 
+        // The monitor (reads the world; repairs are applied in the next pre-step).
+        let mut violations = 0;
+        if let Some(mut m) = self.monitor.take() {
+            let speedups = self.speedups.as_ref();
+            let fixated = |h: RigidBodyHandle| speedups.is_some_and(|s| s.is_fixated(h));
+            let held = |h: RigidBodyHandle| {
+                fixated(h) || view.bodies.get(h).is_some_and(|b| b.is_sleeping())
+            };
+            let pushed = std::mem::take(&mut m.pushed);
+            m.monitor.check_with_quarantine(
+                self,
+                &view,
+                &held,
+                &|h| pushed.contains(&h),
+                view.quarantined,
+            );
+            violations = m.monitor.last_count();
+            let released: Vec<RigidBodyHandle> = self
+                .speedups
+                .as_ref()
+                .map(|s| s.pending_releases().to_vec())
+                .unwrap_or_default();
+            self.monitor_events.clear();
+            let want = self
+                .bus
+                .wanted()
+                .intersects(crate::events::KindSet::MONITOR);
+            m.plan(
+                step,
+                &self.graph,
+                &self.groups,
+                &view,
+                &released,
+                &mut self.monitor_events,
+                want,
+            );
+            self.monitor = Some(m);
+        }
+
         self.ticks.clear();
         if !self.logic.timers.is_empty() {
             self.logic.timers.advance(view.dt, &mut self.ticks);
@@ -291,6 +445,12 @@ impl ContactLayer {
                 removed_nodes: self.coherence.removed_nodes(),
             };
             crate::events::collect::collect(&marks, self.bus.wanted(), &mut self.events);
+            let wanted = self.bus.wanted();
+            self.events.extend(
+                self.monitor_events
+                    .drain(..)
+                    .filter(|e| wanted.contains(e.kind)),
+            );
             self.bus.dispatch(&self.events, &self.graph);
         }
 
@@ -302,6 +462,7 @@ impl ContactLayer {
             walk: self.coherence.counters(),
             groups: self.groups.stats(),
             events: self.events.len(),
+            violations,
         };
         self.stats
     }

@@ -12,7 +12,7 @@
 use rapier3d::math::Vector;
 use rapier3d::prelude::{
     ColliderSet, ImpulseJointSet, IslandManager, MultibodyJointSet, NarrowPhase, PhysicsWorld,
-    RigidBodySet,
+    RigidBodyHandle, RigidBodySet,
 };
 
 /// Borrowed parts of a Rapier world, read after a step.
@@ -34,6 +34,10 @@ pub struct WorldView<'a> {
     pub impulse_joints: &'a ImpulseJointSet,
     /// Multibody joints.
     pub multibody_joints: &'a MultibodyJointSet,
+    /// The bodies Rapier's NaN quarantine reset and disabled in the last step
+    /// (`world.quarantine().bodies()`; empty if unknown). The monitor reports each as
+    /// an escape.
+    pub quarantined: &'a [RigidBodyHandle],
 }
 
 impl<'a> From<&'a PhysicsWorld> for WorldView<'a> {
@@ -47,6 +51,7 @@ impl<'a> From<&'a PhysicsWorld> for WorldView<'a> {
             islands: &w.islands,
             impulse_joints: &w.impulse_joints,
             multibody_joints: &w.multibody_joints,
+            quarantined: w.quarantine().bodies(),
         }
     }
 }

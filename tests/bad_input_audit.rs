@@ -1799,6 +1799,7 @@ fn measure_run_refuses_bad_configs() {
             damping: -1.0,
             ..SpeedUps::none()
         }),
+        repair: false,
     };
     assert!(matches!(
         measure::run(&bad_speedups, scenes::ball_on_box(), &options(&[], None)),
@@ -1879,7 +1880,16 @@ fn bug_measure_run_plain_zero_iterations_accepted() {
     let spec = RunSpec {
         name: "zero".into(),
         mode: Mode::Plain { iterations: 0 },
+        repair: false,
     };
+    assert!(matches!(
+        measure::run(
+            &RunSpec::stock().with_repair(),
+            scenes::ball_on_box(),
+            &options(&[], None)
+        ),
+        Err(Error::InvalidParameter { name: "repair", .. })
+    ));
     assert!(matches!(
         measure::run(&spec, scenes::ball_on_box(), &options(&[], None)),
         Err(Error::InvalidParameter { .. })

@@ -568,6 +568,8 @@ pub mod harness {
                         return bad("sleep event disagrees with the node's awake flag");
                     }
                 }
+                // The sequences run without the monitor.
+                Violation | Repaired => return bad("monitor event without a monitor"),
             }
             Ok(())
         }

@@ -48,15 +48,15 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Trigger);
     let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
         if wanted.contains(kind) {
-            out.push(Event {
+            out.push(Event::plain(
                 step,
                 kind,
                 a,
                 b,
-                body_a: body(a),
-                body_b: b.and_then(body),
+                body(a),
+                b.and_then(body),
                 tick,
-            });
+            ));
         }
     };
     let awake = |n: NodeId| m.graph.node(n).is_some_and(|n| n.is_awake());

@@ -23,7 +23,9 @@
 //!      `ProximityPersist`, `TouchPersist`, `TouchEnd`, `ProximityEnd`;
 //!      trigger edges give `TriggerEnter` / `TriggerExit`;
 //!   3. `FellAsleep` / `WokeUp`, in the order the bodies were refreshed;
-//!   4. `TimerTick`, timers in slot order, ticks ascending.
+//!   4. `TimerTick`, timers in slot order, ticks ascending;
+//!   5. `Violation`, then `Repaired` (monitor on): by violation kind, then body
+//!      handle.
 //! - **Back-pressure.** A step never blocks. An unbounded subscription
 //!   ([`crate::ContactLayer::subscribe`]) never drops. A bounded one
 //!   ([`crate::ContactLayer::subscribe_bounded`]) drops the *newest* events that do
@@ -36,9 +38,11 @@ pub(crate) mod collect;
 
 pub use bus::{EventBus, SubscriptionId};
 
+use rapier3d::math::Real;
 use rapier3d::prelude::RigidBodyHandle;
 
 use crate::graph::NodeId;
+use crate::monitor::ViolationKind;
 
 /// The largest capacity of a bounded subscription (crossbeam allocates it up front).
 pub const MAX_CAPACITY: usize = 1 << 24;
@@ -69,11 +73,20 @@ pub enum EventKind {
     FellAsleep = 9,
     /// A body woke up.
     WokeUp = 10,
+    /// The plausibility monitor found a violation ([`crate::monitor`], DESIGN §6):
+    /// `a` is the body's node, `violation` the kind, `value` the measure. Sent only
+    /// with the layer's monitor in report or repair mode
+    /// ([`crate::ContactLayer::set_monitor`]).
+    Violation = 11,
+    /// The monitor in repair mode acted to prevent a violation: `a` is the body's
+    /// node, `violation` the kind it prevents, `value` the measure when it acted
+    /// (seconds unsupported, excess joules, penetration depth).
+    Repaired = 12,
 }
 
 impl EventKind {
     /// All kinds, in declaration order.
-    pub const ALL: [EventKind; 11] = [
+    pub const ALL: [EventKind; 13] = [
         EventKind::ProximityBegin,
         EventKind::ProximityPersist,
         EventKind::ProximityEnd,
@@ -85,6 +98,8 @@ impl EventKind {
         EventKind::TimerTick,
         EventKind::FellAsleep,
         EventKind::WokeUp,
+        EventKind::Violation,
+        EventKind::Repaired,
     ];
 
     const fn bit(self) -> u16 {
@@ -109,6 +124,8 @@ impl KindSet {
     pub const TRIGGER: KindSet = KindSet(0b000_1100_0000);
     /// Fell asleep / woke up.
     pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
+    /// Violation / repaired (the plausibility monitor's).
+    pub const MONITOR: KindSet = KindSet(0b1_1000_0000_0000);
 
     /// The set of the given kinds.
     pub fn of(kinds: &[EventKind]) -> KindSet {
@@ -137,7 +154,9 @@ impl KindSet {
 }
 
 /// One event. `Copy`, 64 bytes or less: cheap to send.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+///
+/// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
+#[derive(Copy, Clone, Debug)]
 pub struct Event {
     /// The step the event describes.
     pub step: u64,
@@ -154,6 +173,65 @@ pub struct Event {
     pub body_b: Option<RigidBodyHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
     pub tick: u64,
+    /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the kind of
+    /// violation; `None` otherwise.
+    pub violation: Option<ViolationKind>,
+    /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
+    /// [`crate::monitor::Violation::value`]); 0 otherwise.
+    pub value: Real,
+}
+
+impl Event {
+    /// A pair, trigger, timer or sleep event (no monitor fields).
+    pub(crate) fn plain(
+        step: u64,
+        kind: EventKind,
+        a: NodeId,
+        b: Option<NodeId>,
+        body_a: Option<RigidBodyHandle>,
+        body_b: Option<RigidBodyHandle>,
+        tick: u64,
+    ) -> Self {
+        Self {
+            step,
+            kind,
+            a,
+            b,
+            body_a,
+            body_b,
+            tick,
+            violation: None,
+            value: 0.0,
+        }
+    }
+
+    fn key(&self) -> impl PartialEq + std::hash::Hash + '_ {
+        (
+            self.step,
+            self.kind,
+            self.a,
+            self.b,
+            self.body_a,
+            self.body_b,
+            self.tick,
+            self.violation,
+            self.value.to_bits(),
+        )
+    }
+}
+
+impl PartialEq for Event {
+    fn eq(&self, other: &Self) -> bool {
+        self.key() == other.key()
+    }
+}
+
+impl Eq for Event {}
+
+impl std::hash::Hash for Event {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.key().hash(state)
+    }
 }
 
 /// Which events a subscription receives: kinds, and optionally nodes.

@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 
-use crate::monitor::{Monitor, MonitorConfig, ViolationKind};
+use crate::monitor::{Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind};
 use crate::scenes::Scene;
 use crate::speedups::SpeedUps;
 use crate::{ContactLayer, WorldView};
@@ -47,6 +47,9 @@ pub struct RunSpec {
     pub name: String,
     /// How Rapier is driven.
     pub mode: Mode,
+    /// Run the layer's monitor in repair mode ([`MonitorMode::Repair`]) instead of
+    /// report mode. Only for [`Mode::Layer`]: plain runs are only observed.
+    pub repair: bool,
 }
 
 impl RunSpec {
@@ -55,6 +58,7 @@ impl RunSpec {
         Self {
             name: "reference".into(),
             mode: Mode::Plain { iterations: 16 },
+            repair: false,
         }
     }
     /// Brute force: no groups, no speed-ups, no sleep, Rapier's default iterations.
@@ -62,6 +66,7 @@ impl RunSpec {
         Self {
             name: "brute force".into(),
             mode: Mode::Plain { iterations: 4 },
+            repair: false,
         }
     }
     /// Stock Rapier defaults.
@@ -69,6 +74,7 @@ impl RunSpec {
         Self {
             name: "stock Rapier".into(),
             mode: Mode::Stock,
+            repair: false,
         }
     }
     /// The paper's contact graph: groups and sleepy.
@@ -76,7 +82,16 @@ impl RunSpec {
         Self {
             name: "contact graph".into(),
             mode: Mode::Layer(SpeedUps::contact_graph()),
+            repair: false,
         }
+    }
+    /// The same configuration with the monitor repairing ([`MonitorMode::Repair`]);
+    /// the name gets a ` +repair` suffix. Plain modes are not changed (an error at
+    /// [`run`]).
+    pub fn with_repair(mut self) -> Self {
+        self.repair = true;
+        self.name.push_str(" +repair");
+        self
     }
     /// A combination of the seven switches (see [`SpeedUps::combination`]).
     pub fn combination(bits: u8) -> Self {
@@ -84,6 +99,7 @@ impl RunSpec {
         Self {
             name: s.label(),
             mode: Mode::Layer(s),
+            repair: false,
         }
     }
 }
@@ -248,8 +264,25 @@ pub fn run(
         Mode::Layer(s) => layer.set_speedups(Some(s.clone()))?,
     }
     let layered = matches!(spec.mode, Mode::Layer(_));
+    if spec.repair && !layered {
+        return Err(crate::Error::InvalidParameter {
+            name: "repair",
+            reason: format!(
+                "`{}` runs plain Rapier: only layer runs can repair",
+                spec.name
+            ),
+        });
+    }
+    // Repair runs use the layer's own monitor: its checks and repairs are part of the
+    // configuration's cost, so they are timed. Every other run is only observed: an
+    // untimed monitor outside the step.
     let mut monitor = Monitor::new(opts.monitor)?;
-    monitor.prime(&WorldView::from(&scene.world));
+    if spec.repair {
+        layer.set_monitor(MonitorMode::Repair, opts.monitor, RepairConfig::default())?;
+        layer.prime_monitor(&WorldView::from(&scene.world));
+    } else {
+        monitor.prime(&WorldView::from(&scene.world));
+    }
     let mut traj = Trajectory::default();
     let mut timed = Duration::ZERO;
     let (mut groups_sum, mut awake_sum) = (0.0f64, 0.0f64);
@@ -274,17 +307,13 @@ pub fn run(
             step_us.push(dt.as_micros().min(u32::MAX as u128) as u32);
             layer.analyze(WorldView::from(&scene.world))
         };
-        let fixated = |h: RigidBodyHandle| layer.speedups().is_some_and(|s| s.is_fixated(h));
-        let held = |h: RigidBodyHandle| {
-            fixated(h) || scene.world.bodies.get(h).is_some_and(|b| b.is_sleeping())
-        };
-        monitor.check_with_quarantine(
-            &layer,
-            &WorldView::from(&scene.world),
-            &held,
-            &|_| false,
-            scene.world.quarantine().bodies(),
-        );
+        if !spec.repair {
+            let fixated = |h: RigidBodyHandle| layer.speedups().is_some_and(|s| s.is_fixated(h));
+            let held = |h: RigidBodyHandle| {
+                fixated(h) || scene.world.bodies.get(h).is_some_and(|b| b.is_sleeping())
+            };
+            monitor.check(&layer, &WorldView::from(&scene.world), &held, &|_| false);
+        }
         let awake = scene
             .world
             .islands
@@ -303,7 +332,10 @@ pub fn run(
             traj.frames.push(sample(&scene, opts.bodies));
         }
     }
-    let totals = monitor.totals();
+    let totals = match layer.monitor() {
+        Some(m) => m.monitor().totals(),
+        None => monitor.totals(),
+    };
     let violations = Violations {
         hanging: totals.get(ViolationKind::HangingSleeper),
         launch: totals.get(ViolationKind::Launch),

@@ -1,9 +1,10 @@
 //! Hanging sleepers (paper Fig. 17): held bodies without support.
 //!
 //! Which bodies are looked at: the bodies the analysis refreshed (awake now or at the
-//! step before: a fixated body is awake in Rapier, and a body is refreshed in the step
-//! it falls asleep), the bodies created in the step (one may be created asleep), and
-//! the bodies already being timed. A sleeping body that is not being timed was
+//! step before: a body is refreshed in the step it falls asleep), the bodies created in
+//! the step (one may be created asleep), the bodies fixated by the speed-ups whose
+//! remembered support is gone ([`crate::speedups::SpeedUpState::fixation_supported`]),
+//! and the bodies already being timed. A sleeping body that is not being timed was
 //! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
 //! which it does when something touching it is removed — so it needs no look.
 //!
@@ -66,8 +67,26 @@ impl Hanging {
             .iter()
             .chain(coherence.created_nodes())
         {
-            if let Some(h) = simulated(ctx.layer, n) {
+            // A body fixated by the speed-ups is a `Fixed` node while held: the caller's
+            // `held` says it is one of ours.
+            let h = simulated(ctx.layer, n).or_else(|| {
+                ctx.layer
+                    .graph()
+                    .body_of(n)
+                    .filter(|&h| held(h) && ctx.view.bodies.get(h).is_some_and(|rb| rb.is_fixed()))
+            });
+            if let Some(h) = h {
                 self.look(ctx, config, held, up, h, Some(n), out, peaks);
+            }
+        }
+        // Fixated bodies are not refreshed while nothing moves them; the speed-ups
+        // tell which lost their support.
+        if let Some(s) = ctx.layer.speedups() {
+            for h in s.unsupported_fixated() {
+                if held(h) {
+                    let n = ctx.layer.graph().node_of_body(h);
+                    self.look(ctx, config, held, up, h, n, out, peaks);
+                }
             }
         }
         self.rest.clear();
@@ -107,10 +126,28 @@ impl Hanging {
             return;
         };
         let simulated = graph.node(n).is_some_and(|node| node.kind().is_simulated());
-        let is_held = simulated && rb.is_enabled() && (rb.is_sleeping() || held(h));
+        // A simulated body is held when asleep or held by the caller; a body the
+        // caller turned fixed (the speed-ups' fixation) when the caller holds it.
+        let is_held = rb.is_enabled()
+            && if simulated {
+                rb.is_sleeping() || held(h)
+            } else {
+                rb.is_fixed() && held(h)
+            };
         // Without the layer's contact details there are no normals to judge support
         // by; then any touching contact counts (no false alarms).
         let supported = || {
+            // A body fixated by the speed-ups is fixed in Rapier, which computes no
+            // contacts between fixed bodies: what held it when it was fixated is
+            // remembered by the speed-ups (see `SpeedUpState::fixation_supported`).
+            if ctx
+                .layer
+                .speedups()
+                .and_then(|s| s.fixation_supported(h))
+                .unwrap_or(false)
+            {
+                return true;
+            }
             if ctx.layer.coherence().contact_details() {
                 graph
                     .supports_of(n, up, config.min_support_cos)

@@ -36,8 +36,8 @@
 //!   the body rotates and can be cached.
 //! - **Escape**: a body whose pose or velocity is not finite. Rapier 0.36's own NaN
 //!   quarantine resets and disables such bodies during its step, so after a step their
-//!   pose is finite again; pass `world.quarantine().bodies()` to
-//!   [`Monitor::check_with_quarantine`] to count those as well.
+//!   pose is finite again: the bodies it reports ([`crate::WorldView::quarantined`])
+//!   are counted as escapes too.
 //!
 //! # Episodes, not steps
 //! Every kind is counted once per *episode*, which is what a table of violations
@@ -70,6 +70,9 @@ mod escape;
 mod hanging;
 mod launch;
 mod penetration;
+mod repair;
+
+pub use repair::{LayerMonitor, MonitorMode, RepairConfig, RepairCounts};
 
 use rapier3d::math::Real;
 use rapier3d::prelude::RigidBodyHandle;
@@ -367,12 +370,13 @@ impl Monitor {
         held: &dyn Fn(RigidBodyHandle) -> bool,
         excepted: &dyn Fn(RigidBodyHandle) -> bool,
     ) -> &[Violation] {
-        self.check_with_quarantine(layer, view, held, excepted, &[])
+        self.check_with_quarantine(layer, view, held, excepted, view.quarantined)
     }
 
-    /// [`Self::check`], plus the bodies Rapier's NaN quarantine reset and disabled in
-    /// the step (`world.quarantine().bodies()`), each an escape (once per episode: a
-    /// body already reported escaped is not reported again).
+    /// [`Self::check`] with an explicit list of the bodies Rapier's NaN quarantine
+    /// reset and disabled in the step, each an escape (once per episode: a body already
+    /// reported escaped is not reported again). [`Self::check`] takes them from
+    /// [`WorldView::quarantined`].
     pub fn check_with_quarantine(
         &mut self,
         layer: &ContactLayer,

@@ -55,11 +55,14 @@ use crate::logic::WorldMut;
 use crate::WorldView;
 
 /// A body held by fixation, with what it had before.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct Held {
     handle: RigidBodyHandle,
     linvel: Vector,
     angvel: Vector,
+    /// What supported it against gravity when it was fixated (see
+    /// [`SpeedUpState::fixation_supported`]).
+    supports: Vec<NodeId>,
 }
 
 /// Per-body rest tracking, indexed by body slot.
@@ -96,9 +99,13 @@ pub struct SpeedUpState {
     /// Eligibility changes to write in the pre-step.
     eligibility: Vec<(RigidBodyHandle, bool)>,
     /// Fixations and releases to apply in the pre-step.
-    to_fix: Vec<RigidBodyHandle>,
+    to_fix: Vec<(RigidBodyHandle, Vec<NodeId>)>,
     to_release: Vec<RigidBodyHandle>,
     held: BTreeMap<(u32, u32), Held>,
+    /// Held bodies whose remembered support is gone (evaluated after each decision).
+    unsupported: std::collections::BTreeSet<(u32, u32)>,
+    /// Tweak and reduce stand down (the monitor's repair of a deep penetration).
+    pub(crate) suspend_thinning: bool,
     /// Colliders flagged for `modify_solver_contacts`, with their former flags.
     flagged: BTreeMap<(u32, u32), (ColliderHandle, ActiveHooks)>,
     /// Bodies whose colliders need (true) or lose (false) the zero flag.
@@ -141,6 +148,8 @@ impl SpeedUpState {
             to_fix: Vec::new(),
             to_release: Vec::new(),
             held: BTreeMap::new(),
+            unsupported: Default::default(),
+            suspend_thinning: false,
             flagged: BTreeMap::new(),
             zero_flags: Vec::new(),
             damped: BTreeMap::new(),
@@ -212,6 +221,7 @@ impl SpeedUpState {
         self.eligibility.clear();
         self.to_fix.clear();
         self.to_release.clear();
+        self.unsupported.clear();
         self.zero_flags.clear();
         self.restored = true;
     }
@@ -275,14 +285,15 @@ impl SpeedUpState {
         let c = self.config.clone();
         let dt = world.integration_parameters.dt;
         let params = &mut *world.integration_parameters;
-        params.num_solver_iterations = if c.tweak {
+        let thin = !self.suspend_thinning;
+        params.num_solver_iterations = if c.tweak && thin {
             c.tweak_iterations
         } else {
             c.iterations
         };
         params.contact_recycling = c.cache;
         params.warmstart_coefficient = if c.cache { 1.0 } else { 0.0 };
-        mods.reduce_depth = c.reduce.then_some(c.reduce_depth);
+        mods.reduce_depth = (c.reduce && thin).then_some(c.reduce_depth);
         mods.zero = c.zero;
 
         let counts_changed = world.bodies.len() != self.known_bodies
@@ -378,7 +389,7 @@ impl SpeedUpState {
                 mods.set_sleepy(h, false);
             }
         }
-        for h in std::mem::take(&mut self.to_fix) {
+        for (h, supports) in std::mem::take(&mut self.to_fix) {
             let Some(rb) = world.bodies.get_mut(h) else {
                 continue;
             };
@@ -389,6 +400,7 @@ impl SpeedUpState {
                 handle: h,
                 linvel: rb.linvel(),
                 angvel: rb.angvel(),
+                supports,
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
             self.held.insert(key(h), held);
@@ -565,6 +577,12 @@ impl SpeedUpState {
         }
 
         if c.fixate {
+            let g = view.gravity;
+            let up = if g.length() > 0.0 {
+                -g / g.length()
+            } else {
+                Vector::ZERO
+            };
             // Release: a fast, non-sleepy body touching a held one.
             for &n in refreshed {
                 let Some(node) = graph.node(n) else { continue };
@@ -601,10 +619,148 @@ impl SpeedUpState {
                 }
                 let Some(h) = node.body() else { continue };
                 if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
-                    self.to_fix.push(h);
+                    let supports = if up.is_finite() && up != Vector::ZERO {
+                        graph.supports_of(n, up, 0.0).collect()
+                    } else {
+                        Vec::new()
+                    };
+                    self.to_fix.push((h, supports));
                     self.stats.fixations += 1;
                 }
             }
+            self.evaluate_support(graph, view, up);
         }
+    }
+
+    /// Whether a body held by fixation is still supported against gravity: `None` for
+    /// a body that is not held. O(1) (evaluated once per step, after the decisions).
+    ///
+    /// Why this is needed: a fixated body is fixed in Rapier, and Rapier computes no
+    /// contacts between two fixed bodies, so neither Rapier nor the graph knows what a
+    /// fixated body rests on once its neighbours are fixed too. What supported it
+    /// when it was fixated is remembered, and the support still holds while one of
+    /// those supporters still does: static geometry; a scripted body that is not
+    /// moving; a held body that is itself supported (recursively); or any touching
+    /// contact that pushes it up now (Rapier computes those with the bodies that are
+    /// not fixed). A chain of fixated bodies is judged through the chain, so taking
+    /// the bottom of a fixated pile away leaves the bodies above it unsupported.
+    pub fn fixation_supported(&self, h: RigidBodyHandle) -> Option<bool> {
+        let k = key(h);
+        self.held
+            .contains_key(&k)
+            .then(|| !self.unsupported.contains(&k))
+    }
+
+    /// The bodies held by fixation whose support is gone, in handle order. O(their
+    /// number).
+    pub fn unsupported_fixated(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.unsupported
+            .iter()
+            .filter_map(|k| self.held.get(k).map(|h| h.handle))
+    }
+
+    /// Re-evaluates [`Self::fixation_supported`] for every held body.
+    /// O(held bodies × their remembered supporters).
+    fn evaluate_support(&mut self, graph: &ContactGraph, view: &WorldView, up: Vector) {
+        self.unsupported.clear();
+        if !(up.is_finite() && up != Vector::ZERO) || self.held.is_empty() {
+            return;
+        }
+        let mut memo: BTreeMap<(u32, u32), bool> = BTreeMap::new();
+        let keys: Vec<(u32, u32)> = self.held.keys().copied().collect();
+        for k in keys {
+            self.support_ok(k, graph, view, up, &mut memo, 0);
+        }
+        self.unsupported
+            .extend(memo.into_iter().filter(|&(_, ok)| !ok).map(|(k, _)| k));
+    }
+
+    fn support_ok(
+        &self,
+        k: (u32, u32),
+        graph: &ContactGraph,
+        view: &WorldView,
+        up: Vector,
+        memo: &mut BTreeMap<(u32, u32), bool>,
+        depth: u32,
+    ) -> bool {
+        if let Some(&ok) = memo.get(&k) {
+            return ok;
+        }
+        let Some(held) = self.held.get(&k) else {
+            return false;
+        };
+        // Very deep chains are trusted (no false alarm) rather than recursed.
+        if depth > 256 {
+            return true;
+        }
+        memo.insert(k, false); // a cycle without a base supports nothing
+        let Some(n) = graph.node_of_body(held.handle) else {
+            return false;
+        };
+        let mut ok = graph.supports_of(n, up, 0.0).next().is_some();
+        if !ok {
+            for &m in &held.supports {
+                let Some(node) = graph.node(m) else { continue };
+                let supporter = node.body();
+                if let Some(mh) = supporter.filter(|&mh| self.held.contains_key(&key(mh))) {
+                    if self.support_ok(key(mh), graph, view, up, memo, depth + 1) {
+                        ok = true;
+                        break;
+                    }
+                    continue;
+                }
+                match node.kind() {
+                    NodeKind::Fixed => {
+                        ok = true;
+                        break;
+                    }
+                    NodeKind::Scripted => {
+                        let still =
+                            supporter
+                                .and_then(|mh| view.bodies.get(mh))
+                                .is_some_and(|rb| {
+                                    rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
+                                });
+                        if still {
+                            ok = true;
+                            break;
+                        }
+                    }
+                    // A simulated supporter supports only through a touching contact
+                    // now (checked above).
+                    _ => {}
+                }
+            }
+        }
+        memo.insert(k, ok);
+        ok
+    }
+
+    /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
+    /// rest count again (not sleepy, not sleep-eligible), so that its group is not put
+    /// back to sleep before it has moved. O(1).
+    pub(crate) fn repair_wake(&mut self, h: RigidBodyHandle, mods: &mut ContactMods) {
+        if self.is_fixated(h) && !self.to_release.contains(&h) {
+            self.to_release.push(h);
+            self.stats.releases += 1;
+        }
+        self.to_fix.retain(|(f, _)| *f != h);
+        let r = self.rest_mut(h);
+        r.steps = 0;
+        let was_sleepy = std::mem::replace(&mut r.sleepy, false);
+        let was_eligible = std::mem::replace(&mut r.eligible, false);
+        if was_sleepy {
+            mods.set_sleepy(h, false);
+            self.zero_flags.push((h, false));
+        }
+        if was_eligible {
+            self.eligibility.push((h, false));
+        }
+    }
+
+    /// The bodies the next pre-step releases from fixation.
+    pub(crate) fn pending_releases(&self) -> &[RigidBodyHandle] {
+        &self.to_release
     }
 }

@@ -64,9 +64,10 @@ impl ContractLog {
         assert!(ev.step >= self.last_step, "steps go backwards: {ev:?}");
         self.last_step = ev.step;
         let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        let is_monitor = matches!(ev.kind, Violation | Repaired);
         for n in [Some(ev.a), ev.b].into_iter().flatten() {
             assert!(
-                is_end || !self.passive.contains(&n),
+                is_end || is_monitor || !self.passive.contains(&n),
                 "event naming passive node {n:?}: {ev:?}"
             );
         }
@@ -123,6 +124,17 @@ impl ContractLog {
             WokeUp => {
                 let was = self.asleep.insert(ev.a, false);
                 assert_ne!(was, Some(false), "WokeUp twice: {ev:?}");
+            }
+            Violation | Repaired => {
+                assert!(
+                    ev.violation.is_some(),
+                    "monitor event without a kind: {ev:?}"
+                );
+                assert!(
+                    ev.b.is_none() && ev.body_a.is_some(),
+                    "names one body: {ev:?}"
+                );
+                assert!(ev.value.is_finite(), "measure not finite: {ev:?}");
             }
         }
     }
