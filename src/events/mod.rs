@@ -80,7 +80,8 @@ pub enum EventKind {
     Violation = 11,
     /// The monitor in repair mode acted to prevent a violation: `a` is the body's
     /// node, `violation` the kind it prevents, `value` the measure when it acted
-    /// (seconds unsupported, excess joules, penetration depth).
+    /// (seconds unsupported; excess joules; for a deep penetration, the depth as a
+    /// fraction of the limit).
     Repaired = 12,
 }
 

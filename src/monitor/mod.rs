@@ -467,6 +467,13 @@ impl Monitor {
         self.peaks
     }
 
+    /// The deepest contact the last check saw, as a fraction of the deep-penetration
+    /// limit (1 is the limit), with a node of one of its bodies (a simulated one if
+    /// there is one). `None` when no touching contact was refreshed. O(1).
+    pub fn last_deepest(&self) -> Option<(Real, NodeId)> {
+        self.penetration.last_deepest
+    }
+
     /// The held bodies being timed as unsupported, with the seconds so far (in no
     /// particular order). A stability repair can wake them before they become
     /// violations. O(bodies timed).

@@ -23,6 +23,9 @@ pub(crate) struct Penetration {
     deep: HashSet<EdgeId>,
     /// Node → (collider count when measured, size).
     sizes: HashMap<NodeId, (usize, Real)>,
+    /// The deepest contact of the last check relative to its limit, with the node of
+    /// one of its bodies (for the repair's early warning).
+    pub(crate) last_deepest: Option<(Real, NodeId)>,
 }
 
 /// The smallest extent of an AABB given by its corners.
@@ -102,6 +105,7 @@ impl Penetration {
                 self.sizes.retain(|&n, _| graph.contains_node(n));
             }
         }
+        self.last_deepest = None;
         if !layer.coherence().contact_details() {
             return;
         }
@@ -126,7 +130,12 @@ impl Penetration {
             };
             let limit = config.penetration_fraction * size;
             if limit > 0.0 {
-                peaks.penetration = peaks.penetration.max(depth / limit);
+                let ratio = depth / limit;
+                peaks.penetration = peaks.penetration.max(ratio);
+                if ratio > self.last_deepest.map_or(0.0, |(r, _)| r) {
+                    let simulated = if na.kind().is_simulated() { a } else { b };
+                    self.last_deepest = Some((ratio, simulated));
+                }
             }
             if depth.is_nan() || depth <= limit {
                 self.deep.remove(&eid);

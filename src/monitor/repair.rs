@@ -22,9 +22,10 @@
 //!   - *a launch* that happened anyway is stopped: the velocities of the launched
 //!     group are scaled down so that the excess energy the detector measured is taken
 //!     out again (the launch itself was one step long, and stays counted);
-//!   - *a deep penetration* makes the speed-ups that thin out the solver (tweak and
-//!     reduce) stand down for [`RepairConfig::cap_steps`] steps: full iterations,
-//!     every contact point.
+//!   - *a contact on its way to a deep penetration* (deeper than
+//!     [`RepairConfig::penetration_warning`] of the limit) makes the speed-ups that
+//!     thin out the solver (tweak and reduce) stand down for
+//!     [`RepairConfig::cap_steps`] steps: full iterations, every contact point.
 //!
 //!   Each action is reported as an [`EventKind::Repaired`] event naming the body and
 //!   the violation it prevents.
@@ -94,6 +95,10 @@ pub struct RepairConfig {
     /// Steps a released or woken body stays fresh, and a deep penetration keeps tweak
     /// and reduce standing down. Default 10.
     pub cap_steps: u32,
+    /// The early warning of a deep penetration: tweak and reduce stand down as soon as
+    /// a contact is deeper than this fraction of the deep-penetration limit. Default
+    /// 0.5. In `(0, 1]`.
+    pub penetration_warning: Real,
 }
 
 impl Default for RepairConfig {
@@ -101,6 +106,7 @@ impl Default for RepairConfig {
         Self {
             corrective_cap: 0.5,
             cap_steps: 10,
+            penetration_warning: 0.5,
         }
     }
 }
@@ -112,6 +118,12 @@ impl RepairConfig {
             return Err(Error::InvalidParameter {
                 name: "corrective_cap",
                 reason: format!("must be finite and positive, got {}", self.corrective_cap),
+            });
+        }
+        if !(self.penetration_warning > 0.0 && self.penetration_warning <= 1.0) {
+            return Err(Error::InvalidParameter {
+                name: "penetration_warning",
+                reason: format!("must be in (0, 1], got {}", self.penetration_warning),
             });
         }
         Ok(())
@@ -223,6 +235,7 @@ impl LayerMonitor {
 
     /// Plans the repairs for what the last check found and appends the events.
     /// `fixation_released` are the bodies the speed-ups release in the next pre-step.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn plan(
         &mut self,
         step: u64,
@@ -257,6 +270,21 @@ impl LayerMonitor {
                 node: graph.node_of_body(h),
                 value: seconds,
             });
+        }
+        // The early warning: a contact on its way to a deep penetration.
+        if let Some((ratio, n)) = self.monitor.last_deepest() {
+            if ratio > self.repair.penetration_warning {
+                if let Some(body) = graph.body_of(n) {
+                    self.planned.push(Action::Thicken);
+                    repaired.push(Violation {
+                        step,
+                        kind: ViolationKind::DeepPenetration,
+                        body,
+                        node: Some(n),
+                        value: ratio,
+                    });
+                }
+            }
         }
         for v in found {
             match v.kind {
