@@ -362,7 +362,9 @@ fn main() {
         let best = results
             .iter()
             .filter(|(s, r)| {
-                matches!(s.mode, Mode::Layer(_)) && s.repair == repaired && r.violations.total() == 0
+                matches!(s.mode, Mode::Layer(_))
+                    && s.repair == repaired
+                    && r.violations.total() == 0
             })
             .min_by(|a, b| a.1.time_s.total_cmp(&b.1.time_s));
         let what = if repaired { "repaired" } else { "unrepaired" };

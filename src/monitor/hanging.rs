@@ -4,7 +4,13 @@
 //! step before: a body is refreshed in the step it falls asleep), the bodies created in
 //! the step (one may be created asleep), the bodies fixated by the speed-ups whose
 //! remembered support is gone ([`crate::speedups::SpeedUpState::fixation_supported`]),
-//! and the bodies already being timed. A sleeping body that is not being timed was
+//! the held bodies next to a change (a touching contact ended, a neighbour was
+//! removed, a scripted body touching or jointed to them moves, gravity changed), and
+//! the bodies already being timed.
+//!
+//! Nothing that moves holds a body still: a held body touching or jointed to a moving
+//! scripted body is unsupported whatever else it rests on (the sleepers Rapier leaves
+//! behind a moving kinematic body, rapier #287 and #692). A sleeping body that is not being timed was
 //! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
 //! which it does when something touching it is removed — so it needs no look.
 //!
@@ -33,6 +39,10 @@ struct Timed {
 #[derive(Debug, Default)]
 pub(crate) struct Hanging {
     timed: HashMap<RigidBodyHandle, Timed>,
+    /// The gravity of the last check (a change re-judges every held body).
+    gravity: Option<Vector>,
+    /// Scratch: held bodies next to a change.
+    near: Vec<(RigidBodyHandle, NodeId)>,
     /// Scratch: the timed bodies not refreshed in this step.
     rest: Vec<RigidBodyHandle>,
 }
@@ -61,6 +71,15 @@ impl Hanging {
             return;
         }
         let up = -ctx.view.gravity / g;
+        let gravity_changed = self
+            .gravity
+            .replace(ctx.view.gravity)
+            .is_some_and(|before| before != ctx.view.gravity);
+        self.look_near_changes(ctx, held, gravity_changed);
+        for i in 0..self.near.len() {
+            let (h, n) = self.near[i];
+            self.look(ctx, config, held, up, h, Some(n), out, peaks);
+        }
         let coherence = ctx.layer.coherence();
         for &n in coherence
             .refreshed_nodes()
@@ -103,6 +122,83 @@ impl Hanging {
         }
     }
 
+    /// Collects into `near` the held bodies that are not refreshed but next to
+    /// something that changed: both ends of an edge whose touching ended in the step,
+    /// the survivors of edges removed with a node, the bodies a moving scripted body
+    /// touches or is jointed to, and, when gravity changed, every held body (once per
+    /// change: O(nodes)). Otherwise O(edges touched or removed in the step + contacts
+    /// and joints of moving scripted bodies).
+    fn look_near_changes(
+        &mut self,
+        ctx: &Ctx,
+        held: &dyn Fn(RigidBodyHandle) -> bool,
+        gravity_changed: bool,
+    ) {
+        self.near.clear();
+        let layer = ctx.layer;
+        let graph = layer.graph();
+        let view = ctx.view;
+        let is_held = |h: RigidBodyHandle| {
+            view.bodies
+                .get(h)
+                .is_some_and(|rb| rb.is_enabled() && (rb.is_sleeping() || held(h)))
+        };
+        let near = &mut self.near;
+        let mut add = |n: NodeId| {
+            if let Some(h) = graph.body_of(n).filter(|&h| is_held(h)) {
+                near.push((h, n));
+            }
+        };
+        if gravity_changed {
+            for (n, node) in graph.nodes() {
+                if node.kind().is_simulated() || node.kind() == crate::NodeKind::Fixed {
+                    add(n);
+                }
+            }
+        } else {
+            let coherence = layer.coherence();
+            for &e in coherence.touched_edges() {
+                if let Some(e) = graph.edge(e) {
+                    if e.touching_mark(ctx.step) == Some(crate::graph::Transition::Vanished) {
+                        add(e.a());
+                        add(e.b());
+                    }
+                }
+            }
+            for e in coherence.removed_edges() {
+                add(e.a());
+                add(e.b());
+            }
+            for &n in coherence.refreshed_nodes() {
+                let Some(node) = graph.node(n) else { continue };
+                if node.kind() != crate::NodeKind::Scripted {
+                    continue;
+                }
+                let Some(k) = node.body() else { continue };
+                let moving = view
+                    .bodies
+                    .get(k)
+                    .is_some_and(|rb| rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO);
+                if !moving {
+                    continue;
+                }
+                for (m, _, e) in graph.neighbors(n) {
+                    if e.kind() == crate::graph::EdgeKind::Physical {
+                        add(m);
+                    }
+                }
+                for (b1, b2, _, _) in view.impulse_joints.attached_joints(k) {
+                    let other = if b1 == k { b2 } else { b1 };
+                    if let Some(m) = graph.node_of_body(other) {
+                        add(m);
+                    }
+                }
+            }
+        }
+        self.near.sort_by_key(|(h, _)| h.into_raw_parts());
+        self.near.dedup();
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn look(
         &mut self,
@@ -137,6 +233,26 @@ impl Hanging {
         // Without the layer's contact details there are no normals to judge support
         // by; then any touching contact counts (no false alarms).
         let supported = || {
+            // Nothing that moves holds a body still: a held body jointed to, or touching,
+            // a moving scripted body (rapier #692, #287) is not held plausibly, whatever
+            // else supports it.
+            let moving_script = |other: RigidBodyHandle| {
+                ctx.view.bodies.get(other).is_some_and(|rb| {
+                    rb.is_kinematic()
+                        && (rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO)
+                })
+            };
+            let dragged = ctx
+                .view
+                .impulse_joints
+                .attached_joints(h)
+                .any(|(b1, b2, _, _)| moving_script(if b1 == h { b2 } else { b1 }))
+                || graph
+                    .touching(n)
+                    .any(|m| graph.body_of(m).is_some_and(moving_script));
+            if dragged {
+                return false;
+            }
             // A body fixated by the speed-ups is fixed in Rapier, which computes no
             // contacts between fixed bodies: what held it when it was fixated is
             // remembered by the speed-ups (see `SpeedUpState::fixation_supported`).
