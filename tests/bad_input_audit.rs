@@ -1964,6 +1964,87 @@ fn charts_with_nan_empty_and_extreme_input() {
 }
 
 #[test]
+fn frames_with_bad_bounds_views_handles_and_geometry() {
+    use rapier_contact_graph::report::frames::{Camera, Classifier, Renderer, Shade, View};
+    // Out-of-range and non-finite parameters: clamped sizes, errors for the rest.
+    assert_eq!(Camera::new(0, u32::MAX).size(), (160, 8192));
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert!(matches!(View::tilted(bad, 0.0), Err(Error::NonFinite(_))));
+        assert!(matches!(View::tilted(0.0, bad), Err(Error::NonFinite(_))));
+        let corner = Vector::new(0.0, bad, 0.0);
+        assert!(matches!(
+            Camera::new(200, 200).with_bounds(corner, Vector::ONE),
+            Err(Error::NonFinite(_))
+        ));
+    }
+    assert!(matches!(
+        Camera::new(200, 200).with_bounds(Vector::ONE, Vector::ZERO),
+        Err(Error::InvalidParameter { .. })
+    ));
+    let (mut world, ground, ball, layer) = stepped(3);
+    for bad in [-1.0, f32::NAN, f32::INFINITY] {
+        assert!(matches!(
+            Classifier::new(&world.bodies, &layer).with_rest_speed(bad),
+            Err(Error::InvalidParameter { .. })
+        ));
+    }
+    // Stale and foreign handles: the classifier calls them fixed, scenery ignores them.
+    world.remove_body(ball);
+    {
+        let classes = Classifier::new(&world.bodies, &layer);
+        assert_eq!(classes.shade(ball), Shade::Fixed);
+        for h in foreign_bodies(ground) {
+            assert_eq!(classes.shade(h), Shade::Fixed);
+        }
+    }
+    // Odd geometry: NaN and huge poses, tiny and huge bounds, a half-space, views at
+    // odd angles.
+    world.insert_collider(ColliderBuilder::ball(0.5).translation(Vector::NAN), None);
+    world.insert_collider(
+        ColliderBuilder::cuboid(0.5, 0.5, 0.5).translation(Vector::splat(f32::MAX)),
+        None,
+    );
+    world.insert_collider(
+        ColliderBuilder::ball(1e30).translation(Vector::splat(1e30)),
+        None,
+    );
+    world.insert_collider(
+        ColliderBuilder::new(SharedShape::halfspace(Vector::Y)),
+        None,
+    );
+    let (far, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1e20, 0.0)),
+        ColliderBuilder::capsule_y(0.5, 0.2),
+    );
+    let cameras = [
+        Camera::new(200, 160),
+        Camera::new(200, 160)
+            .with_bounds(Vector::ZERO, Vector::splat(1e-30))
+            .unwrap(),
+        Camera::new(200, 160)
+            .with_bounds(Vector::splat(-f32::MAX), Vector::splat(f32::MAX))
+            .unwrap(),
+        Camera::new(200, 160).with_view(View::tilted(1e30, -1e30).unwrap()),
+    ];
+    let classes = Classifier::new(&world.bodies, &layer);
+    for (i, camera) in cameras.into_iter().enumerate() {
+        let renderer = Renderer::new(camera).with_scenery(foreign_bodies(ground));
+        let frame = no_panic(&format!("frame {i}"), || {
+            renderer.render(&world, &|h| classes.shade(h), &"\u{0}é".repeat(300))
+        });
+        assert!(frame.skipped() >= 2, "the NaN ball and the half-space");
+        assert_eq!(frame.rgb().len(), 200 * 160 * 3);
+        assert_eq!(frame.pixel(200, 0), None);
+        let _ = far;
+    }
+    // Writing where no directory is: an I/O error.
+    let frame = Renderer::new(Camera::new(160, 160)).render(&world, &|_| Shade::Moving, "");
+    assert!(frame
+        .write_png(std::env::temp_dir().join("no/such/dir/frame.png"))
+        .is_err());
+}
+
+#[test]
 // Fixed: the bug this test was written for (see the audit table).
 fn bug_chart_negative_subnormal_panics() {
     for (d, s, log_y) in [

@@ -148,6 +148,12 @@ pub(crate) enum Item {
         fill: Option<Color>,
         stroke: Option<Stroke>,
     },
+    /// A closed polygon (even-odd fill), its outline centred on the edges.
+    Polygon {
+        points: Vec<(f64, f64)>,
+        fill: Option<Color>,
+        stroke: Option<Stroke>,
+    },
     /// Text in the bitmap font at an integer scale; `(x, y)` is the top-left corner of
     /// the box (capitals reach from `y` to `y + 7 * scale`). Vertical text reads
     /// bottom to top, its box `9 * scale` wide and starting at the bottom.

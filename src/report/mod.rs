@@ -9,6 +9,9 @@
 //! configurations nothing beats on both axes; [`svg`] and [`png`] draw the scatter
 //! chart with that front.
 //!
+//! [`frames`] draws pictures of a scene with the same machinery: PNG frames of a
+//! Rapier world with every body coloured by its state, as in the paper's Fig. 17.
+//!
 //! # Design
 //! - **One layout, two back ends.** `chart` turns the points and the [`ChartSpec`]
 //!   into a display list in pixel coordinates (lines, markers, text boxes): axis
@@ -52,6 +55,7 @@
 
 mod chart;
 mod font;
+pub mod frames;
 mod png;
 mod raster;
 mod svg;

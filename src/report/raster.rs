@@ -213,6 +213,24 @@ impl Canvas {
         }
     }
 
+    /// A filled polygon, then its outline (centred on the edges).
+    fn polygon(&mut self, points: &[(f64, f64)], fill: Option<Color>, stroke: Option<Stroke>) {
+        if points.len() < 3 || points.iter().any(|p| !(p.0.is_finite() && p.1.is_finite())) {
+            return;
+        }
+        let margin = stroke.map_or(0.0, |s| s.width);
+        let bounds = bounding_box(points, margin);
+        if let Some(color) = fill {
+            self.fill_sdf(bounds, color, 1.0, |x, y| polygon_distance((x, y), points));
+        }
+        if let Some(stroke) = stroke {
+            let half = stroke.width / 2.0;
+            self.fill_sdf(bounds, stroke.color, 1.0, |x, y| {
+                polygon_distance((x, y), points).abs() - half
+            });
+        }
+    }
+
     /// Paints one display-list item.
     fn item(&mut self, item: &Item) {
         match item {
@@ -237,6 +255,11 @@ impl Canvas {
                 }
             }
             Item::Line { points, stroke } => self.polyline(points, *stroke),
+            Item::Polygon {
+                points,
+                fill,
+                stroke,
+            } => self.polygon(points, *fill, *stroke),
             Item::Marker {
                 shape,
                 x,

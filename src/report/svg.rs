@@ -68,6 +68,15 @@ fn write_item(out: &mut String, item: &Item, depth: usize) {
             paint(out, None, Some(*stroke));
             out.push_str(" stroke-linecap=\"round\" stroke-linejoin=\"round\"/>\n");
         }
+        Item::Polygon {
+            points,
+            fill,
+            stroke,
+        } => {
+            let _ = write!(out, "<polygon points=\"{}\"", point_list(points));
+            paint(out, *fill, *stroke);
+            out.push_str("/>\n");
+        }
         Item::Marker {
             shape,
             x,
