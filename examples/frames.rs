@@ -7,15 +7,14 @@
 //! leaves — the failure of Fig. 17. Beside it, a small stack of boxes settles and is
 //! fixated, and a ball is dropped on it later.
 //!
-//! Bodies are amber when the plausibility monitor reports them (its last violations
-//! and the held bodies it is timing as unsupported). Note: the `fixate` speed-up makes
-//! a held body fixed in Rapier, so its node becomes a fixed node, which the monitor
-//! does not time; the hanging sphere therefore stays green here, as in the paper's
-//! figure, until the monitor learns about fixated bodies.
+//! Bodies are amber when the layer's plausibility monitor reports them (its last
+//! violations and the held bodies it is timing as unsupported): the hanging sphere
+//! turns amber once its support has gone. With `--repair` the monitor repairs instead:
+//! the sphere is released the step after its support leaves and falls.
 //!
 //! ```text
 //! cargo run --release --example frames -- [--out DIR] [--every K] [--steps N]
-//!                                         [--view side|tilted] [--size WxH]
+//!                                         [--view side|tilted] [--size WxH] [--repair]
 //! ```
 //! Writes `frame_0000.png`, … every `K` steps (default 10) of `N` steps (default 240)
 //! into `DIR` (default `target/frames`) and prints each path with the body counts per
@@ -25,7 +24,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use rapier3d::prelude::*;
-use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
+use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::report::frames::{
     violating_bodies, Camera, Classifier, Renderer, Shade, View,
 };
@@ -34,7 +33,7 @@ use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldView};
 
 const USAGE: &str =
-    "usage: frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH]";
+    "usage: frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]";
 
 /// Radius of the hanging-sleeper spheres.
 const R: Real = 0.5;
@@ -51,6 +50,7 @@ struct Args {
     steps: u64,
     view: View,
     size: (u32, u32),
+    repair: bool,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -60,6 +60,7 @@ fn parse_args() -> Result<Args, String> {
         steps: 240,
         view: View::SIDE,
         size: (800, 480),
+        repair: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -85,6 +86,7 @@ fn parse_args() -> Result<Args, String> {
                     h.parse().map_err(|e| format!("--size: {e}"))?,
                 );
             }
+            "--repair" => a.repair = true,
             "-h" | "--help" => return Err(String::new()),
             other => return Err(format!("unknown option `{other}`")),
         }
@@ -180,8 +182,15 @@ fn main() -> std::io::Result<()> {
     let label = speedups.label();
     let mut layer = ContactLayer::new();
     layer.set_speedups(Some(speedups)).expect("valid speed-ups");
-    let mut monitor = Monitor::new(MonitorConfig::default()).expect("valid monitor config");
-    monitor.prime(&WorldView::from(&scene.world));
+    let mode = if args.repair {
+        MonitorMode::Repair
+    } else {
+        MonitorMode::Report
+    };
+    layer
+        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .expect("valid monitor config");
+    layer.prime_monitor(&WorldView::from(&scene.world));
 
     let camera = Camera::new(args.size.0, args.size.1)
         .with_view(args.view)
@@ -198,14 +207,13 @@ fn main() -> std::io::Result<()> {
         if step > 0 {
             scene.before_step(step - 1);
             layer.step(&mut scene.world);
-            let fixated = |h: RigidBodyHandle| layer.speedups().is_some_and(|s| s.is_fixated(h));
-            monitor.check(&layer, &WorldView::from(&scene.world), &fixated, &|_| false);
         }
+        let monitor = layer.monitor().expect("the monitor is on").monitor();
         if step % args.every != 0 {
             continue;
         }
         let t0 = Instant::now();
-        let violating = violating_bodies(&monitor);
+        let violating = violating_bodies(monitor);
         let classes = Classifier::new(&scene.world.bodies, &layer).violating(&violating);
         let caption = format!(
             "{}   t = {:.2} s   step {step}   speed-ups {label}",
@@ -226,17 +234,20 @@ fn main() -> std::io::Result<()> {
             .collect();
         println!("{}  ({})", path.display(), counts.join(", "));
     }
-    let totals = monitor.totals();
+    let m = layer.monitor().expect("the monitor is on");
+    let totals = m.monitor().totals();
     println!(
         "{written} frames in {:.2} s (per frame: {:.1} ms to render, {:.1} ms to write); \
-         violations: {} hanging sleeper, {} launch, {} deep penetration, {} escape",
+         violations: {} hanging sleeper, {} launch, {} deep penetration, {} escape; \
+         repairs: {} groups woken",
         started.elapsed().as_secs_f64(),
         1e3 * render_time / f64::from(written.max(1)),
         1e3 * write_time / f64::from(written.max(1)),
         totals.hanging_sleeper,
         totals.launch,
         totals.deep_penetration,
-        totals.escape
+        totals.escape,
+        m.repairs().woken
     );
     Ok(())
 }
