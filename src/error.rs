@@ -39,8 +39,23 @@ pub enum Error {
         /// Why it is refused.
         reason: String,
     },
-    /// An invariant of the graph does not hold (reported by `validate()`).
+    /// An invariant of the graph does not hold (reported by `validate()`, and by
+    /// `ContactLayer::restore` for a snapshot whose state is inconsistent).
     Invariant(String),
+    /// A layer snapshot was written in another snapshot format than this build reads
+    /// (returned, as its message, by the deserialiser).
+    SnapshotFormat {
+        /// The format of the snapshot.
+        found: u32,
+        /// The format this build reads.
+        expected: u32,
+    },
+    /// A layer snapshot does not belong to the world it is restored against.
+    SnapshotMismatch(String),
+    /// A layer snapshot holds a predicate rule (`Rule::ignore_if`): closures are not
+    /// part of a snapshot, so restoring it needs the predicate given back
+    /// (`ContactLayer::restore_with`).
+    UnboundPredicate(NodeId),
 }
 
 impl fmt::Display for Error {
@@ -61,6 +76,18 @@ impl fmt::Display for Error {
                 write!(f, "invalid parameter `{name}`: {reason}")
             }
             Error::Invariant(msg) => write!(f, "graph invariant violated: {msg}"),
+            Error::SnapshotFormat { found, expected } => write!(
+                f,
+                "layer snapshot format {found}, this build of rapier-contact-graph reads format {expected}"
+            ),
+            Error::SnapshotMismatch(msg) => {
+                write!(f, "layer snapshot does not match the world: {msg}")
+            }
+            Error::UnboundPredicate(rule) => write!(
+                f,
+                "rule {rule:?} is a predicate, which a snapshot cannot hold: restore with \
+                 `restore_with` and give its predicate back"
+            ),
         }
     }
 }

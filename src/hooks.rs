@@ -16,6 +16,7 @@ use crate::logic::RuleTable;
 
 /// The contact modifications of the speed-ups, read by the hooks during a step.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactMods {
     /// Keep only the deepest solver contact of pairs penetrating deeper than this
     /// (metres); `None`: off.

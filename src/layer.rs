@@ -37,6 +37,7 @@ use crate::{Error, Result, WorldView};
 
 /// Statistics of one step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct StepStats {
     /// The step's index (1 for the first analysed step).
     pub step: u64,
@@ -962,5 +963,43 @@ impl ContactLayer {
     /// [`Self::validate`] for a world given by its parts.
     pub fn validate_view(&self, view: &WorldView) -> Result<()> {
         crate::validate::validate_layer(self, view)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl ContactLayer {
+    /// A copy of the layer's state without its subscriptions (see
+    /// [`crate::snapshot`]). O(state).
+    pub(crate) fn to_state(&self) -> crate::snapshot::LayerState {
+        crate::snapshot::LayerState {
+            graph: self.graph.clone(),
+            groups: self.groups.clone(),
+            coherence: self.coherence.clone(),
+            logic: self.logic.clone(),
+            bus: self.bus.without_subscriptions(),
+            stats: self.stats,
+            gravity: self.gravity,
+            colliders_seen: self.colliders_seen,
+            ticks: self.ticks.clone(),
+            events: self.events.clone(),
+            speedups: self.speedups.clone(),
+        }
+    }
+
+    /// The layer of a checked state. O(1).
+    pub(crate) fn from_state(s: crate::snapshot::LayerState) -> Self {
+        Self {
+            graph: s.graph,
+            groups: s.groups,
+            coherence: s.coherence,
+            logic: s.logic,
+            bus: s.bus,
+            stats: s.stats,
+            gravity: s.gravity,
+            colliders_seen: s.colliders_seen,
+            ticks: s.ticks,
+            events: s.events,
+            speedups: s.speedups,
+        }
     }
 }

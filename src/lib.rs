@@ -27,6 +27,8 @@
 //! - [`groups`]: contact groups by the traversal of Figs. 7–8;
 //! - [`export`]: Graphviz pictures of the graph (Figs. 2 and 9);
 //! - [`scenes`]: small deterministic scenes shared by examples, tests and benchmarks;
+//! - [`snapshot`] (feature `serde`, on by default): the layer's state saved and
+//!   restored beside Rapier's own world snapshot, continuing bit for bit;
 //! - [`ContactLayer`] ties them together.
 
 #![warn(missing_docs)]
@@ -45,6 +47,8 @@ pub mod measure;
 pub mod monitor;
 pub mod report;
 pub mod scenes;
+#[cfg(feature = "serde")]
+pub mod snapshot;
 pub mod speedups;
 mod validate;
 mod world;
@@ -58,6 +62,8 @@ pub use graph::{
 pub use groups::{Group, GroupId, GroupStats, Groups};
 pub use layer::{ContactLayer, StepStats};
 pub use logic::{Rule, WorldMut};
+#[cfg(feature = "serde")]
+pub use snapshot::{LayerSnapshot, SNAPSHOT_FORMAT};
 pub use world::WorldView;
 
 /// Re-export of the Rapier version this crate is built against.

@@ -46,6 +46,7 @@ pub const OBSOLETE_EVERY: u64 = 16;
 
 /// A node removed because its Rapier object left the world.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RemovedNode {
     /// The node's (now stale) id.
     pub id: NodeId,
@@ -57,6 +58,7 @@ pub struct RemovedNode {
 
 /// The state of the analysis between steps.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Coherence {
     step: u64,
     known_bodies: Option<usize>,
@@ -99,6 +101,7 @@ pub struct Coherence {
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
 /// choice is about speed). Exposed for tests and benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ScanPolicy {
     /// Scan Rapier's whole pair array when at least half of the moving bodies were
     /// refreshed, walk the refreshed bodies' pairs otherwise.
@@ -112,6 +115,7 @@ pub enum ScanPolicy {
 
 /// What a slot of Rapier's contact-pair array held at the last scan.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct PairSlot {
     c1: ColliderHandle,
     c2: ColliderHandle,
@@ -122,6 +126,7 @@ struct PairSlot {
 
 /// A cached collider owner, valid for one collider generation.
 #[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 enum Owner {
     #[default]
     Unknown,

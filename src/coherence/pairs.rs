@@ -134,6 +134,7 @@ fn normal_order(a: rapier3d::math::Vector, b: rapier3d::math::Vector) -> std::cm
 
 /// Per-step counters of the pair walk.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct WalkCounters {
     /// Bodies whose collider pairs were walked.
     pub bodies: usize,

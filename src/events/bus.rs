@@ -16,6 +16,7 @@ use crate::graph::{ContactGraph, EdgeKind, NodeId};
 
 /// A subscription's id (for [`EventBus::unsubscribe`] and per-subscription counts).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SubscriptionId(u64);
 
 #[derive(Debug)]
@@ -28,7 +29,10 @@ struct Subscription {
 
 /// The set of subscriptions of a layer.
 #[derive(Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EventBus {
+    /// Channels cannot be serialised: a deserialised bus has no subscriptions.
+    #[cfg_attr(feature = "serde", serde(skip))]
     subs: Vec<Subscription>,
     next_id: u64,
     dropped: u64,
@@ -44,6 +48,19 @@ impl Clone for EventBus {
 }
 
 impl EventBus {
+    /// The bus's counters without its subscriptions (for a snapshot: channels cannot
+    /// be serialised). O(1).
+    #[cfg(feature = "serde")]
+    pub(crate) fn without_subscriptions(&self) -> Self {
+        Self {
+            subs: Vec::new(),
+            next_id: self.next_id,
+            dropped: self.dropped,
+            pruned: self.pruned,
+            sent: self.sent,
+        }
+    }
+
     fn add(&mut self, filter: Filter, tx: Sender<Event>) -> SubscriptionId {
         let id = SubscriptionId(self.next_id);
         self.next_id += 1;

@@ -49,6 +49,7 @@ pub const MAX_CAPACITY: usize = 1 << 24;
 
 /// The kinds of event.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[repr(u8)]
 pub enum EventKind {
     /// Two bodies came into close proximity (a Rapier narrow-phase pair appeared).
@@ -158,6 +159,7 @@ impl KindSet {
 ///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Event {
     /// The step the event describes.
     pub step: u64,

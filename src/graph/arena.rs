@@ -5,12 +5,14 @@
 //! Iteration is in slot order, never in hash order.
 
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Slot<T> {
     generation: u32,
     value: Option<T>,
 }
 
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Arena<T> {
     slots: Vec<Slot<T>>,
     free: Vec<u32>,
@@ -96,6 +98,35 @@ impl<T> Arena<T> {
         self.slots.len()
     }
 
+    /// Checks the free list against the slots (for a deserialised arena): every free
+    /// index names an empty slot, once, every empty slot is free, and `len` counts the
+    /// live ones. Insertion indexes the slot a free index names, so a snapshot must
+    /// pass this before it is used. O(slots).
+    #[cfg(feature = "serde")]
+    pub fn check(&self) -> Result<(), String> {
+        let mut free = vec![false; self.slots.len()];
+        for &i in &self.free {
+            match self.slots.get(i as usize) {
+                None => return Err(format!("free slot {i} is out of range")),
+                Some(s) if s.value.is_some() => return Err(format!("free slot {i} is occupied")),
+                Some(_) if free[i as usize] => return Err(format!("slot {i} is free twice")),
+                Some(_) => free[i as usize] = true,
+            }
+        }
+        let live = self.slots.iter().filter(|s| s.value.is_some()).count();
+        if live + self.free.len() != self.slots.len() {
+            return Err(format!(
+                "{} slots, {live} live and {} free",
+                self.slots.len(),
+                self.free.len()
+            ));
+        }
+        if live != self.len {
+            return Err(format!("{live} live slots but a count of {}", self.len));
+        }
+        Ok(())
+    }
+
     /// Live values in slot order, with `(index, generation)`.
     pub fn iter(&self) -> impl Iterator<Item = (u32, u32, &T)> + '_ {
         self.slots
@@ -121,5 +152,30 @@ mod tests {
         assert_eq!(a.get(i, g), None, "stale generation");
         assert_eq!(a.get(j, h), Some(&"y"));
         assert_eq!(a.len(), 1);
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn check_refuses_a_broken_free_list() {
+        let mut a = Arena::default();
+        let (i, g) = a.insert(1);
+        a.insert(2);
+        a.remove(i, g);
+        assert_eq!(a.check(), Ok(()));
+        let mut b = a.clone();
+        b.free.push(7);
+        assert!(b.check().unwrap_err().contains("out of range"));
+        let mut b = a.clone();
+        b.free = vec![1];
+        assert!(b.check().unwrap_err().contains("occupied"));
+        let mut b = a.clone();
+        b.free.push(0);
+        assert!(b.check().unwrap_err().contains("twice"));
+        let mut b = a.clone();
+        b.free.clear();
+        assert!(b.check().is_err(), "an empty slot that is not free");
+        let mut b = a.clone();
+        b.len = 2;
+        assert!(b.check().unwrap_err().contains("count"));
     }
 }

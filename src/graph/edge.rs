@@ -16,6 +16,7 @@ use super::NodeId;
 
 /// The four edge categories of Table 2.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum EdgeKind {
     /// Rule – body: the rule applies to the body (static, user-defined).
     Logical,
@@ -56,6 +57,7 @@ impl Transition {
 ///
 /// Distances follow Rapier's sign convention: negative is penetration.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactCache {
     /// A Rapier narrow-phase pair exists between the bodies (fat AABBs overlap) now.
     pub proximity: bool,
@@ -138,6 +140,7 @@ impl ContactCache {
 
 /// An edge of the contact graph.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Edge {
     pub(crate) a: NodeId,
     pub(crate) b: NodeId,

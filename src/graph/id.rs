@@ -26,6 +26,7 @@ macro_rules! generational_id {
         $(#[$meta])*
         #[repr(transparent)]
         #[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
         pub struct $name(u64);
 
         impl $name {
@@ -94,6 +95,7 @@ generational_id!(
 /// ```
 #[repr(transparent)]
 #[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PairKey(u64);
 
 impl PairKey {

@@ -45,9 +45,11 @@ use crate::{Error, Result};
 /// iterating a node's neighbours is O(degree); iterating all nodes or edges is
 /// O(slots).
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactGraph {
     pub(crate) nodes: Arena<Node>,
     pub(crate) edges: Arena<Edge>,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
     pairs: HashMap<PairKey, EdgeId, PairBuildHasher>,
     /// Body handle index → node (checked against the node's source for generation).
     body_nodes: Vec<Option<NodeId>>,

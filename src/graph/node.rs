@@ -14,6 +14,7 @@ use super::EdgeId;
 
 /// The kinds of node of the paper's Table 1, as mapped onto Rapier (DESIGN §2).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NodeKind {
     /// (R) a dynamic rigid body.
     Rigid,
@@ -100,6 +101,7 @@ impl NodeKind {
 
 /// What in the Rapier world (or in the layer) a node stands for.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NodeSource {
     /// A rigid body.
     Body(RigidBodyHandle),
@@ -116,6 +118,7 @@ pub enum NodeSource {
 
 /// A node of the contact graph.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Node {
     pub(crate) kind: NodeKind,
     pub(crate) source: NodeSource,

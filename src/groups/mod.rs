@@ -29,6 +29,7 @@ use crate::graph::{Arena, ContactGraph, EdgeId, EdgeKind, NodeId, NodeKind};
 /// lives for one step; a sleeping one until it is disturbed).
 #[repr(transparent)]
 #[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GroupId(u64);
 
 impl std::fmt::Debug for GroupId {
@@ -53,6 +54,7 @@ impl GroupId {
 
 /// One contact group.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Group {
     /// Member nodes (simulated bodies and containers), in traversal order.
     pub bodies: Vec<NodeId>,
@@ -72,6 +74,7 @@ pub struct Group {
 
 /// Per-step statistics of the groups, as the paper plots them (Figs. 13–14).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GroupStats {
     /// Number of groups (awake and sleeping).
     pub groups: usize,
@@ -102,6 +105,7 @@ impl GroupStats {
 
 /// The contact groups of a scene.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Groups {
     arena: Arena<Group>,
     stamp: u64,
@@ -116,6 +120,7 @@ pub struct Groups {
 }
 
 #[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct SleepingTotals {
     count: usize,
     variables: u64,
@@ -194,6 +199,49 @@ impl Groups {
                 }
             }
         }
+    }
+
+    /// Checks deserialised groups against their graph: the arena, members and edges
+    /// live, members and nodes pointing at each other, the awake set and the sleeping
+    /// totals (dissolving subtracts from them) agreeing with the groups. O(groups +
+    /// members + nodes).
+    #[cfg(feature = "serde")]
+    pub(crate) fn check(&self, graph: &ContactGraph) -> Result<(), String> {
+        self.arena
+            .check()
+            .map_err(|e| format!("group arena: {e}"))?;
+        let (mut count, mut variables) = (0usize, 0u64);
+        for (id, g) in self.iter() {
+            for &n in &g.bodies {
+                if graph.node(n).map(|node| node.group) != Some(Some(id)) {
+                    return Err(format!(
+                        "group {id:?} holds {n:?}, which does not point back"
+                    ));
+                }
+            }
+            if let Some(e) = g.edges.iter().find(|&&e| graph.edge(e).is_none()) {
+                return Err(format!("group {id:?} holds dead edge {e:?}"));
+            }
+            if g.asleep {
+                count += 1;
+                variables += g.variables as u64;
+            }
+            if g.asleep == self.awake.contains(&id) {
+                return Err(format!("group {id:?} is misfiled as awake or asleep"));
+            }
+        }
+        if let Some(id) = self.awake.iter().find(|&&id| self.get(id).is_none()) {
+            return Err(format!("awake set holds dead group {id:?}"));
+        }
+        if (count, variables) != (self.sleeping.count, self.sleeping.variables) {
+            return Err("sleeping totals disagree with the sleeping groups".into());
+        }
+        for (n, node) in graph.nodes() {
+            if let Some(g) = node.group.filter(|&g| self.get(g).is_none()) {
+                return Err(format!("node {n:?} points to dead group {g:?}"));
+            }
+        }
+        Ok(())
     }
 
     /// Forgets the queued roots (groups switched off).

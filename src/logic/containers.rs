@@ -26,6 +26,7 @@ use crate::WorldView;
 
 /// What a container derived from Rapier's joints is keyed by.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContainerSource {
     /// A Rapier multibody, keyed by its root body.
     Multibody(RigidBodyHandle),
@@ -72,6 +73,7 @@ impl ContainerSource {
 
 /// The joint-derived containers of a layer.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Containers {
     signature: Option<u64>,
     nodes: BTreeMap<ContainerSource, NodeId>,

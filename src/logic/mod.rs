@@ -63,13 +63,18 @@ const RULE_HOOKS: ActiveHooks =
 
 /// The state of the logic layer.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Logic {
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::rules"))]
     pub(crate) rules: BTreeMap<NodeId, Rule>,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::layer_hooks"))]
     pub(crate) hooks: crate::hooks::LayerHooks,
     rules_dirty: bool,
     /// Colliders we flagged, with the flags they had before.
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
     flagged: HashMap<ColliderHandle, ActiveHooks>,
     /// Sensors we widened, with the collision types they had before.
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
     widened: HashMap<ColliderHandle, ActiveCollisionTypes>,
     pub(crate) widen_sensors: bool,
     pub(crate) timers: timers::Timers,

@@ -126,6 +126,19 @@ impl RuleTable {
         }
     }
 
+    /// The rules in force with their nodes, in table order (for a snapshot).
+    #[cfg(feature = "serde")]
+    pub(crate) fn entries(&self) -> &[(NodeId, Rule)] {
+        &self.rules
+    }
+
+    /// The rules in force, to re-bind their predicates after a restore (the index by
+    /// node does not change).
+    #[cfg(feature = "serde")]
+    pub(crate) fn entries_mut(&mut self) -> &mut [(NodeId, Rule)] {
+        &mut self.rules
+    }
+
     /// Whether no rule is in force.
     pub fn is_empty(&self) -> bool {
         self.rules.is_empty()

@@ -17,6 +17,7 @@ use crate::graph::NodeId;
 pub const MAX_TICKS_PER_STEP: u64 = 10_000;
 
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Timer {
     node: NodeId,
     period: f64,
@@ -28,6 +29,7 @@ struct Timer {
 
 /// The timers of a layer.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Timers {
     list: Vec<Timer>,
     /// Simulated time: `base + steps * dt`.
@@ -66,6 +68,31 @@ impl Timers {
 
     pub(crate) fn ticks(&self, node: NodeId) -> Option<u64> {
         self.list.iter().find(|t| t.node == node).map(|t| t.ticks)
+    }
+
+    /// The timers' nodes, in slot order.
+    #[cfg(feature = "serde")]
+    pub(crate) fn nodes(&self) -> impl Iterator<Item = NodeId> + '_ {
+        self.list.iter().map(|t| t.node)
+    }
+
+    /// Checks a deserialised timer list: periods as `add_timer` accepts them, one
+    /// timer per node, in slot order. O(timers).
+    #[cfg(feature = "serde")]
+    pub(crate) fn check(&self) -> Result<(), String> {
+        for t in &self.list {
+            if !t.period.is_finite() || t.period < super::MIN_TIMER_PERIOD {
+                return Err(format!("timer {:?} has period {}", t.node, t.period));
+            }
+        }
+        if self
+            .list
+            .windows(2)
+            .any(|w| w[0].node.index() >= w[1].node.index())
+        {
+            return Err("timers are not in slot order, or a node has two".into());
+        }
+        Ok(())
     }
 
     pub(crate) fn is_empty(&self) -> bool {

@@ -18,6 +18,7 @@ use crate::{Error, Result};
 /// assert!(SpeedUps { tweak_iterations: 0, ..SpeedUps::none() }.validate().is_err());
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedUps {
     /// Contact groups by the paper's traversal drive sleeping and the statistics.
     /// Motion: unchanged.

@@ -56,6 +56,7 @@ use crate::WorldView;
 
 /// A body held by fixation, with what it had before.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Held {
     handle: RigidBodyHandle,
     linvel: Vector,
@@ -67,6 +68,7 @@ struct Held {
 
 /// Per-body rest tracking, indexed by body slot.
 #[derive(Clone, Copy, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Rest {
     generation: u32,
     steps: u32,
@@ -77,6 +79,7 @@ struct Rest {
 
 /// Counters of the speed-ups' work in the last step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedUpStats {
     /// Sleepy bodies among the awake ones.
     pub sleepy: usize,
@@ -90,6 +93,7 @@ pub struct SpeedUpStats {
 
 /// The state of the speed-ups of a layer.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedUpState {
     config: SpeedUps,
     dirty: bool,
