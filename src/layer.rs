@@ -983,6 +983,9 @@ impl ContactLayer {
             ticks: self.ticks.clone(),
             events: self.events.clone(),
             speedups: self.speedups.clone(),
+            monitor: self.monitor.clone(),
+            monitor_events: self.monitor_events.clone(),
+            monitor_restore: self.monitor_restore.clone(),
         }
     }
 
@@ -1000,6 +1003,9 @@ impl ContactLayer {
             ticks: s.ticks,
             events: s.events,
             speedups: s.speedups,
+            monitor: s.monitor,
+            monitor_events: s.monitor_events,
+            monitor_restore: s.monitor_restore,
         }
     }
 }

@@ -5,12 +5,14 @@
 //! `PhysicsWorld` (Rapier derives `Serialize`/`Deserialize` under its
 //! `serde-serialize` feature, which this crate's `serde` feature turns on). The layer
 //! keeps state of its own — the graph with its caches and marks, the groups, the rules,
-//! timers and containers, the speed-ups' rest counters and held bodies, cursors and
-//! counters — and [`ContactLayer::snapshot`] captures all of it as a [`LayerSnapshot`].
+//! timers and containers, the speed-ups' rest counters and held bodies, the monitor's
+//! timers, episodes and repairs, cursors and counters — and [`ContactLayer::snapshot`]
+//! captures all of it as a [`LayerSnapshot`].
 //! [`ContactLayer::restore`] rebuilds a layer from it against the restored world, and
 //! the pair then continues **bit for bit** as the original pair would: the same poses,
 //! the same graph, the same events in the same order (tested on every scene kind,
-//! speed-ups and fixation included, in `tests/snapshot_restore.rs`).
+//! speed-ups, fixation and the repairing monitor included, in
+//! `tests/snapshot_restore.rs`).
 //!
 //! ```
 //! use rapier3d::prelude::*;
@@ -112,6 +114,9 @@
 //! inserted since the last step wait in a `std` `HashSet` drained in hash order, which
 //! differs per process, so take snapshots after a step, not between inserting a joint
 //! and stepping (the same order issue already makes two processes differ there).
+//! Rapier's quarantine list (bodies its last step disabled for non-finite state) lives
+//! in the skipped pipeline: a restored world reports none until its next step, which
+//! refills it, so the layer's analysis after that step reads the same list.
 //!
 //! # Formats
 //! Any serde format that round-trips `f32` bit for bit and infinities: **bincode** (1.x)
@@ -140,6 +145,7 @@ use crate::events::{Event, EventBus};
 use crate::graph::{ContactGraph, NodeKind, NodeSource};
 use crate::groups::Groups;
 use crate::logic::{IgnorePredicate, Logic, Rule};
+use crate::monitor::LayerMonitor;
 use crate::speedups::SpeedUpState;
 use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 
@@ -283,6 +289,9 @@ pub(crate) struct LayerState {
     pub(crate) ticks: Vec<(NodeId, u64)>,
     pub(crate) events: Vec<Event>,
     pub(crate) speedups: Option<SpeedUpState>,
+    pub(crate) monitor: Option<LayerMonitor>,
+    pub(crate) monitor_events: Vec<Event>,
+    pub(crate) monitor_restore: Option<LayerMonitor>,
 }
 
 impl Clone for LayerState {
@@ -300,6 +309,9 @@ impl Clone for LayerState {
             ticks: self.ticks.clone(),
             events: self.events.clone(),
             speedups: self.speedups.clone(),
+            monitor: self.monitor.clone(),
+            monitor_events: self.monitor_events.clone(),
+            monitor_restore: self.monitor_restore.clone(),
         }
     }
 }
@@ -528,6 +540,10 @@ fn check_state(s: &LayerState) -> std::result::Result<(), String> {
     if let Some(s) = &s.speedups {
         s.config().validate().map_err(|e| e.to_string())?;
     }
+    for m in s.monitor.iter().chain(&s.monitor_restore) {
+        m.monitor.config().validate().map_err(|e| e.to_string())?;
+        m.repair_config().validate().map_err(|e| e.to_string())?;
+    }
     Ok(())
 }
 
@@ -686,6 +702,27 @@ impl SortKey for rapier3d::prelude::ColliderHandle {
     }
 }
 
+impl SortKey for rapier3d::prelude::RigidBodyHandle {
+    fn sort_key(&self) -> u64 {
+        let (i, g) = self.into_raw_parts();
+        ((g as u64) << 32) | i as u64
+    }
+}
+
+impl SortKey for NodeId {
+    fn sort_key(&self) -> u64 {
+        let (i, g) = self.into_raw_parts();
+        ((g as u64) << 32) | i as u64
+    }
+}
+
+impl SortKey for crate::EdgeId {
+    fn sort_key(&self) -> u64 {
+        let (i, g) = self.into_raw_parts();
+        ((g as u64) << 32) | i as u64
+    }
+}
+
 /// A hash map written as its entries sorted by key (equal maps give equal bytes,
 /// whatever their insertion history), read back refusing repeated keys.
 pub(crate) mod sorted_map {
@@ -723,5 +760,41 @@ pub(crate) mod sorted_map {
             return Err(de::Error::custom("a map holds a key twice"));
         }
         Ok(map)
+    }
+}
+
+/// A hash set written as its elements sorted, read back refusing repeats.
+pub(crate) mod sorted_set {
+    use super::*;
+    use std::collections::HashSet;
+    use std::hash::{BuildHasher, Hash};
+
+    pub(crate) fn serialize<K, H, S>(
+        set: &HashSet<K, H>,
+        s: S,
+    ) -> std::result::Result<S::Ok, S::Error>
+    where
+        K: Serialize + SortKey,
+        S: Serializer,
+    {
+        let mut keys: Vec<&K> = set.iter().collect();
+        keys.sort_unstable_by_key(|k| k.sort_key());
+        s.collect_seq(keys)
+    }
+
+    pub(crate) fn deserialize<'de, K, H, D>(d: D) -> std::result::Result<HashSet<K, H>, D::Error>
+    where
+        K: Deserialize<'de> + Eq + Hash,
+        H: BuildHasher + Default,
+        D: Deserializer<'de>,
+    {
+        let keys = Vec::<K>::deserialize(d)?;
+        let n = keys.len();
+        let mut set = HashSet::with_capacity_and_hasher(n, H::default());
+        set.extend(keys);
+        if set.len() != n {
+            return Err(de::Error::custom("a set holds an element twice"));
+        }
+        Ok(set)
     }
 }

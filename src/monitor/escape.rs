@@ -13,9 +13,11 @@ use rapier3d::prelude::{RigidBody, RigidBodyHandle};
 
 use super::{Ctx, Violation, ViolationKind};
 
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Escape {
     /// Bodies in a reported episode.
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_set"))]
     escaped: HashSet<RigidBodyHandle>,
     /// Scratch.
     look: Vec<RigidBodyHandle>,

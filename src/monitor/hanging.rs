@@ -29,6 +29,7 @@ use crate::graph::NodeId;
 
 /// A held, unsupported body being timed.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Timed {
     seconds: Real,
     reported: bool,
@@ -36,8 +37,10 @@ struct Timed {
     looked: u64,
 }
 
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Hanging {
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
     timed: HashMap<RigidBodyHandle, Timed>,
     /// The gravity of the last check (a change re-judges every held body).
     gravity: Option<Vector>,

@@ -29,6 +29,7 @@ use crate::WorldView;
 
 /// What a body was at the last check that saw it.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct BodyState {
     kinetic: Real,
     com: Vector,
@@ -38,8 +39,10 @@ struct BodyState {
     launched: Option<u64>,
 }
 
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Launch {
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
     state: HashMap<RigidBodyHandle, BodyState>,
     /// Scratch: this step's groups, and the members of groups with excess energy.
     groups: Vec<GroupId>,

@@ -82,6 +82,7 @@ use crate::{ContactLayer, Error, Result, WorldView};
 
 /// Thresholds of the detectors (DESIGN §6 gives the defaults).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MonitorConfig {
     /// Seconds a held body may stay without support before it is a hanging sleeper
     /// (strictly longer than this). Default 0.1 s (DESIGN §6).
@@ -166,6 +167,7 @@ impl MonitorConfig {
 
 /// The kinds of plausibility violation (DESIGN §6), in report order.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ViolationKind {
     /// A held (sleeping or fixated) body without support for longer than the hang time.
     HangingSleeper,
@@ -200,6 +202,7 @@ impl ViolationKind {
 
 /// One reported violation.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Violation {
     /// The layer's step it was found in ([`ContactLayer::current_step`]).
     pub step: u64,
@@ -219,6 +222,7 @@ pub struct Violation {
 
 /// Violations per kind.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ViolationCounts {
     /// Hanging sleepers.
     pub hanging_sleeper: u64,
@@ -260,6 +264,7 @@ impl ViolationCounts {
 /// fraction of its threshold (below 1: never fired). For tuning thresholds and for
 /// reporting how close a run came to a violation.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Peaks {
     /// Longest time a held body went unsupported, over `hang_time` (0 when
     /// `hang_time` is 0).
@@ -295,7 +300,8 @@ pub struct Peaks {
 /// }
 /// assert_eq!(monitor.totals().total(), 0);
 /// ```
-#[derive(Debug)]
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Monitor {
     config: MonitorConfig,
     hanging: hanging::Hanging,

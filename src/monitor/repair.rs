@@ -65,6 +65,7 @@ use crate::{Error, Result};
 
 /// What the layer's monitor does (see the module docs).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MonitorMode {
     /// No monitor (the default).
     #[default]
@@ -88,6 +89,7 @@ impl MonitorMode {
 
 /// Parameters of the repair mode.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RepairConfig {
     /// Rapier's `normalized_max_corrective_velocity` while a released or woken body is
     /// fresh (Rapier's default is 3). Default 0.5.
@@ -132,6 +134,7 @@ impl RepairConfig {
 
 /// One planned repair.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 enum Action {
     /// Wake (release) the body and its group.
     Wake(RigidBodyHandle),
@@ -143,6 +146,7 @@ enum Action {
 
 /// Counters of the repairs of one step.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RepairCounts {
     /// Groups woken (or released) because a held body lost its support.
     pub woken: u64,
@@ -153,7 +157,8 @@ pub struct RepairCounts {
 }
 
 /// The monitor a [`crate::ContactLayer`] owns (see [`crate::ContactLayer::set_monitor`]).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LayerMonitor {
     mode: MonitorMode,
     repair: RepairConfig,
