@@ -46,6 +46,14 @@
 //! assert_eq!(events.try_iter().collect::<Vec<_>>(), events2.try_iter().collect::<Vec<_>>());
 //! ```
 //!
+//! # Why a snapshot type, not `Serialize` on the layer
+//! Chosen: [`LayerSnapshot`], a value taken from a layer and turned back into one by
+//! [`ContactLayer::restore`], which is where the checks live (the format, the world,
+//! the state's consistency, the predicates). Rejected: deriving `Serialize` and
+//! `Deserialize` on [`ContactLayer`] itself. A deserialised layer would bypass every
+//! one of those checks, and a layer that silently lost its predicates or belongs to
+//! another world would only show it by diverging later.
+//!
 //! # What a snapshot holds, and what it cannot
 //! Everything the layer would read in a later step, per-step outputs included (so
 //! [`ContactLayer::last_events`], [`ContactLayer::touched_edges`] and
@@ -73,11 +81,12 @@
 //! format is refused there, with [`Error::SnapshotFormat`]'s message (formats such as
 //! bincode do not describe themselves, so nothing past a layout this build does not
 //! know can be read; the check has to come before). Any incompatible change of the
-//! layer's state bumps [`SNAPSHOT_FORMAT`]. Truncated or corrupted bytes are errors of
-//! the deserialiser, never panics; bytes that decode but describe an inconsistent state
-//! are refused by [`ContactLayer::restore`] with [`Error::Invariant`] (the arenas'
-//! free lists, the graph's invariants, groups against nodes, rules, timers and
-//! composites against their nodes, the speed-up configuration). A corrupted value that
+//! layer's state bumps [`SNAPSHOT_FORMAT`]. Truncated bytes, and corrupted bytes that
+//! no longer decode, are errors of the deserialiser (bincode's in the tests), not
+//! panics; bytes that decode but describe an inconsistent state are refused by
+//! [`ContactLayer::restore`] with [`Error::Invariant`] (the arenas' free lists, the
+//! graph's invariants, groups against nodes, rules, timers and composites against
+//! their nodes, the speed-up and monitor configurations). A corrupted value that
 //! keeps the state consistent (a cached distance, say) cannot be told from a real one:
 //! checksum the bytes in transport if that matters.
 //!
@@ -98,8 +107,9 @@
 //! Hash maps are written as entries sorted by key, so equal states give equal bytes
 //! (the tests compare the snapshots of the original and restored layers byte for byte
 //! after every step). Their iteration order never leaks into behaviour anyway: the
-//! graph's pair map and the rule index are only looked up, and the logic layer sorts
-//! the keys of its collider maps before using them.
+//! graph's pair map and the rule index are only looked up, the logic layer sorts the
+//! keys of its collider maps before using them, and the monitor judges the bodies of
+//! its maps one by one and sorts what it finds.
 //!
 //! # Rapier's own snapshot (0.36.1, verified)
 //! `PhysicsWorld` skips, on serialisation, only workspaces that its next step rebuilds
@@ -112,17 +122,19 @@
 //! to the original (tested alone, then with the layer, on piles, stacks, triggers,
 //! joints, kinematic scripts and every speed-up). One caveat is Rapier's own: joints
 //! inserted since the last step wait in a `std` `HashSet` drained in hash order, which
-//! differs per process, so take snapshots after a step, not between inserting a joint
-//! and stepping (the same order issue already makes two processes differ there).
+//! differs per process (and, after a round trip, per rebuilt set), so take snapshots
+//! after a step rather than between inserting a joint and stepping; the same order
+//! may make two processes differ there without any snapshot.
 //! Rapier's quarantine list (bodies its last step disabled for non-finite state) lives
 //! in the skipped pipeline: a restored world reports none until its next step, which
 //! refills it, so the layer's analysis after that step reads the same list.
 //!
 //! # Formats
 //! Any serde format that round-trips `f32` bit for bit and infinities: **bincode** (1.x)
-//! is the safe choice and what the tests use. JSON cannot hold infinities (an edge's
-//! closest distance is `f32::INFINITY` without contact points), so `serde_json` fails
-//! on most layers.
+//! is the safe choice and what the tests use. JSON cannot hold infinities, and an
+//! edge without contact points has a closest distance of `f32::INFINITY`: `serde_json`
+//! writes it as `null` and then refuses to read it back ("invalid type: null,
+//! expected f32", seen on a 20-sphere pile), so it fails on nearly every layer.
 //!
 //! # Cost
 //! - [`ContactLayer::snapshot`]: a copy of the state, O(nodes + edges + groups + rules
@@ -796,5 +808,110 @@ pub(crate) mod sorted_set {
             return Err(de::Error::custom("a set holds an element twice"));
         }
         Ok(set)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rapier3d::prelude::{
+        ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
+    };
+    use std::collections::HashSet;
+
+    #[derive(Serialize, Deserialize)]
+    struct Maps {
+        #[serde(with = "sorted_map")]
+        map: HashMap<ColliderHandle, u32>,
+        #[serde(with = "sorted_set")]
+        set: HashSet<RigidBodyHandle>,
+    }
+
+    fn maps(order: &[u32]) -> Maps {
+        let mut m = Maps {
+            map: HashMap::new(),
+            set: HashSet::new(),
+        };
+        for &i in order {
+            m.map.insert(ColliderHandle::from_raw_parts(i, 1), i * 10);
+            m.set.insert(RigidBodyHandle::from_raw_parts(i, 2));
+        }
+        m
+    }
+
+    #[test]
+    fn hash_maps_give_the_same_bytes_whatever_their_history() {
+        let a = bincode::serialize(&maps(&[5, 1, 9, 3, 7])).unwrap();
+        let mut grown = maps(&(0..200).collect::<Vec<_>>());
+        for i in 0..200 {
+            if ![1, 3, 5, 7, 9].contains(&i) {
+                grown.map.remove(&ColliderHandle::from_raw_parts(i, 1));
+                grown.set.remove(&RigidBodyHandle::from_raw_parts(i, 2));
+            }
+        }
+        assert_eq!(a, bincode::serialize(&grown).unwrap());
+        let back: Maps = bincode::deserialize(&a).unwrap();
+        assert_eq!(back.map.len(), 5);
+        assert_eq!(back.map[&ColliderHandle::from_raw_parts(9, 1)], 90);
+        assert!(back.set.contains(&RigidBodyHandle::from_raw_parts(3, 2)));
+    }
+
+    #[test]
+    fn a_repeated_key_is_refused() {
+        #[derive(Serialize)]
+        struct Raw {
+            map: Vec<(ColliderHandle, u32)>,
+            set: Vec<RigidBodyHandle>,
+        }
+        let (c, b) = (
+            ColliderHandle::from_raw_parts(1, 0),
+            RigidBodyHandle::from_raw_parts(1, 0),
+        );
+        let twice_in_map = Raw {
+            map: vec![(c, 1), (c, 2)],
+            set: vec![b],
+        };
+        let bytes = bincode::serialize(&twice_in_map).unwrap();
+        assert!(bincode::deserialize::<Maps>(&bytes).is_err());
+        let twice_in_set = Raw {
+            map: vec![(c, 1)],
+            set: vec![b, b],
+        };
+        let bytes = bincode::serialize(&twice_in_set).unwrap();
+        assert!(bincode::deserialize::<Maps>(&bytes).is_err());
+    }
+
+    #[test]
+    fn the_world_stamp_sees_one_bit_of_one_pose() {
+        let mut world = PhysicsWorld::new();
+        let (h, _) = world.insert(
+            RigidBodyBuilder::dynamic().translation(rapier3d::math::Vector::new(0.0, 1.0, 0.0)),
+            ColliderBuilder::ball(0.5),
+        );
+        let before = WorldStamp::of(&WorldView::from(&world));
+        assert_eq!(before, WorldStamp::of(&WorldView::from(&world)));
+        let mut t = world.bodies[h].translation();
+        t.y = f32::from_bits(t.y.to_bits() + 1);
+        world.bodies[h].set_translation(t, false);
+        let after = WorldStamp::of(&WorldView::from(&world));
+        assert_eq!(
+            (after.bodies, after.colliders),
+            (before.bodies, before.colliders)
+        );
+        assert_ne!(after.digest, before.digest);
+    }
+
+    #[test]
+    fn rules_keep_everything_but_the_predicate() {
+        let (a, b) = (NodeId::from_raw_parts(1, 0), NodeId::from_raw_parts(2, 0));
+        for rule in [
+            Rule::ignore_between(&[a], &[b]),
+            Rule::ignore_pair(a, b),
+            Rule::ignore_if(&[a], |_, _| true),
+        ] {
+            let back = RuleRepr::of(&rule).into_rule();
+            assert_eq!(back.members(), rule.members());
+            assert_eq!(format!("{back:?}"), format!("{rule:?}"));
+        }
     }
 }
