@@ -8,12 +8,14 @@
 //!                                            [--scenes all|LIST] [--out DIR]
 //! ```
 //! `--configs`: `all` (default: the named runs and the 128 combinations), `quick` (the
-//! named runs and each switch alone), or a comma list of `reference`, `brute`, `cg`,
-//! `stock`, combination labels like `C-----F` or numbers 0–127. `--scenes`: `all`
-//! (default) or a comma list of scene names. Writes `results.csv` into `DIR` (default
-//! `target/stability`) and prints a markdown summary: per scene, the violations and
-//! deviation under stock Rapier, the contact graph, each switch alone and the worst
-//! combination.
+//! named runs and each switch alone), or a comma list of `reference`, `plain` (the DIKU
+//! run's reference), `brute`, `cg`, `stock`, combination labels like `C-----F` or
+//! numbers 0–127. Each scene also runs its targets and their controls (see
+//! `StabilityCase::target_spec`). `--scenes`: `all` (default) or a comma list of scene
+//! names. Writes `results.csv` into `DIR` (default `target/stability`) and prints two
+//! markdown tables: per scene, the violations and deviation under the named runs, each
+//! switch alone and the worst combination; then per scene and target, the target's
+//! run against its control and whether the failure shows.
 //!
 //! # Variants and the monitor mode
 //! A run is a [`Variant`]: a configuration ([`RunSpec`]) and a [`MonitorMode`]. Today
@@ -31,7 +33,7 @@ use rapier_contact_graph::scenes::stability::{self, Failure, StabilityCase, Targ
 use rapier_contact_graph::speedups::SpeedUps;
 
 const USAGE: &str = "usage: stability [--configs all|quick|LIST] [--scenes all|LIST] [--out DIR]
-  configs LIST: comma-separated reference, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127
+  configs LIST: comma-separated reference, plain, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127
   scenes LIST: comma-separated scene names";
 
 /// What the plausibility monitor does during a run.
