@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! cargo run --release --example stability -- [--configs all|quick|LIST]
-//!                                            [--scenes all|LIST] [--out DIR]
+//!                                            [--scenes all|LIST] [--repair] [--out DIR]
 //! ```
 //! `--configs`: `all` (default: the named runs and the 128 combinations), `quick` (the
 //! named runs and each switch alone), or a comma list of `reference`, `plain` (the DIKU
@@ -18,10 +18,13 @@
 //! run against its control and whether the failure shows.
 //!
 //! # Variants and the monitor mode
-//! A run is a [`Variant`]: a configuration ([`RunSpec`]) and a [`MonitorMode`]. Today
-//! the only mode is `Detect` (the monitor reports, nothing is repaired). A repair mode
-//! is one more `MonitorMode` value, one arm in [`run_variant`] and one flag in
-//! [`parse_args`]; the CSV already has the `monitor` column and the summary groups by it.
+//! A run is a [`Variant`]: a configuration ([`RunSpec`]) and a [`MonitorMode`]. By
+//! default the mode is `Detect`: an observing monitor reports and nothing is repaired.
+//! `--repair` adds a second pass of every layered configuration with the layer's
+//! monitor repairing ([`RunSpec::with_repair`]); plain Rapier runs (the plain reference,
+//! brute force, stock) cannot repair and are left out of it. Every run, repaired or
+//! not, is measured against the same, unrepaired reference. The CSV has a `monitor`
+//! column, and the tables are printed once per mode.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -32,7 +35,7 @@ use rapier_contact_graph::monitor::{MonitorConfig, ViolationKind};
 use rapier_contact_graph::scenes::stability::{self, Failure, StabilityCase, Target};
 use rapier_contact_graph::speedups::SpeedUps;
 
-const USAGE: &str = "usage: stability [--configs all|quick|LIST] [--scenes all|LIST] [--out DIR]
+const USAGE: &str = "usage: stability [--configs all|quick|LIST] [--scenes all|LIST] [--repair] [--out DIR]
   configs LIST: comma-separated reference, plain, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127
   scenes LIST: comma-separated scene names";
 
@@ -41,12 +44,15 @@ const USAGE: &str = "usage: stability [--configs all|quick|LIST] [--scenes all|L
 enum MonitorMode {
     /// Detect and count; change nothing.
     Detect,
+    /// The layer's monitor repairs ([`RunSpec::with_repair`]).
+    Repair,
 }
 
 impl MonitorMode {
     fn name(self) -> &'static str {
         match self {
             MonitorMode::Detect => "detect",
+            MonitorMode::Repair => "repair",
         }
     }
 }
@@ -61,6 +67,7 @@ struct Variant {
 struct Args {
     configs: String,
     scenes: String,
+    repair: bool,
     out: PathBuf,
 }
 
@@ -68,6 +75,7 @@ fn parse_args() -> Result<Args, String> {
     let mut a = Args {
         configs: "all".into(),
         scenes: "all".into(),
+        repair: false,
         out: PathBuf::from("target/stability"),
     };
     let mut it = std::env::args().skip(1);
@@ -76,6 +84,7 @@ fn parse_args() -> Result<Args, String> {
         match flag.as_str() {
             "--configs" => a.configs = value()?,
             "--scenes" => a.scenes = value()?,
+            "--repair" => a.repair = true,
             "--out" => a.out = PathBuf::from(value()?),
             "-h" | "--help" => return Err(String::new()),
             other => return Err(format!("unknown option `{other}`")),
@@ -148,7 +157,7 @@ fn scenes(list: &str) -> Result<Vec<&'static StabilityCase>, String> {
 }
 
 /// Runs one variant of a case against its reference trajectory (`None`: this is the
-/// reference). The monitor mode's arm is where a repair pass plugs in.
+/// reference).
 fn run_variant(
     case: &StabilityCase,
     variant: &Variant,
@@ -168,6 +177,7 @@ fn run_variant(
     };
     match variant.monitor {
         MonitorMode::Detect => measure::run(&variant.spec, scene, &opts),
+        MonitorMode::Repair => measure::run(&variant.spec.clone().with_repair(), scene, &opts),
     }
 }
 
@@ -233,14 +243,20 @@ fn variants_of(case: &StabilityCase, specs: &[RunSpec], modes: &[MonitorMode]) -
             }
         }
     }
-    all.iter()
-        .flat_map(|s| {
-            modes.iter().map(|&m| Variant {
-                spec: s.clone(),
-                monitor: m,
-            })
-        })
-        .collect()
+    let mut out = Vec::new();
+    for &m in modes {
+        for (i, s) in all.iter().enumerate() {
+            // The reference is run once, unrepaired; plain Rapier cannot repair.
+            let layered = matches!(s.mode, Mode::Layer(_));
+            if m == MonitorMode::Detect || (i > 0 && layered) {
+                out.push(Variant {
+                    spec: s.clone(),
+                    monitor: m,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// What a case was built against and what it is expected to fail under, in order.
@@ -272,20 +288,23 @@ fn main() {
             std::process::exit(2);
         }
     };
-    // Every configuration in every monitor mode (one mode today).
-    let modes = [MonitorMode::Detect];
+    let modes: &[MonitorMode] = if args.repair {
+        &[MonitorMode::Detect, MonitorMode::Repair]
+    } else {
+        &[MonitorMode::Detect]
+    };
 
     let started = Instant::now();
     let plan: Vec<(&StabilityCase, Vec<Variant>)> = cases
         .iter()
-        .map(|&c| (c, variants_of(c, &specs, &modes)))
+        .map(|&c| (c, variants_of(c, &specs, modes)))
         .collect();
     let total: usize = plan.iter().map(|(_, v)| v.len()).sum();
     let mut done = 0usize;
     let mut results: Vec<(&StabilityCase, Variant, RunResult)> = Vec::new();
     for (case, variants) in &plan {
-        // The reference is the first variant of every mode.
-        let mut reference: Vec<(MonitorMode, measure::Trajectory)> = Vec::new();
+        // The reference is the first variant; every run is measured against it.
+        let mut reference: Option<measure::Trajectory> = None;
         for v in variants {
             eprint!(
                 "\r{done}/{total} {:<20} {:<16} {:>6.1}s ",
@@ -294,16 +313,14 @@ fn main() {
                 started.elapsed().as_secs_f64()
             );
             let _ = std::io::stderr().flush();
-            let known = reference
-                .iter()
-                .find(|(m, _)| *m == v.monitor)
-                .map(|(_, t)| t);
-            match run_variant(case, v, known) {
+            match run_variant(case, v, reference.as_ref()) {
                 Ok((mut r, traj)) => {
-                    if known.is_none() {
+                    if reference.is_none() {
                         r.deviation = 0.0;
-                        reference.push((v.monitor, traj));
+                        reference = Some(traj);
                     }
+                    // Tables look runs up by configuration; the mode is a column.
+                    r.name.clone_from(&v.spec.name);
                     results.push((case, v.clone(), r));
                 }
                 Err(e) => {
@@ -363,7 +380,7 @@ fn main() {
         std::process::exit(1);
     }
 
-    for mode in modes {
+    for &mode in modes {
         let per_case: Vec<(&StabilityCase, Vec<&RunResult>)> = cases
             .iter()
             .map(|&case| {

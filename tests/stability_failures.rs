@@ -12,9 +12,10 @@
 //!   the table: what Rapier 0.36 and this crate's realisation of a switch get right).
 //!
 //! The monitor runs in plain detection, as `measure::run` drives it (fixated or
-//! Rapier-sleeping bodies are "held"), and `validate()` runs after every step. Hanging
-//! sleepers are not detected yet in two situations (see the ignored test at the end);
-//! until they are, those expectations are checked by the motion they cause.
+//! Rapier-sleeping bodies are "held"), and `validate()` runs after every step. A hanging
+//! sleeper must show as a violation *and* as a deviation (a body left in the air is
+//! away from the reference), except the ones the monitor does not report yet
+//! ([`MISSED`], checked by the ignored test at the end): those by the deviation alone.
 
 mod common;
 
@@ -91,11 +92,33 @@ fn run(
     )
 }
 
-/// A hanging sleeper the monitor cannot see yet (see the ignored test): held fixed by
-/// fixation, or asleep in Rapier when gravity changes.
-fn undetected(e: &Expectation) -> bool {
-    e.failure == Failure::Violation(ViolationKind::HangingSleeper)
+/// The hanging sleepers the monitor does not report yet, with why (see the ignored
+/// test `the_monitor_reports_every_hanging_sleeper_of_the_suite`).
+const MISSED: [(&str, Target, &str); 3] = [
+    (
+        "gravity_change",
+        Target::StockSleep,
+        "gravity is recorded only once non-zero, so a switch from zero gravity is no change",
+    ),
+    (
+        "gravity_change",
+        Target::Sleepy,
+        "gravity is recorded only once non-zero, so a switch from zero gravity is no change",
+    ),
+    (
+        "static_moved",
+        Target::Fixate,
+        "static geometry remembered as a fixated body's support is trusted after it moved",
+    ),
+];
+
+fn missed(case: &StabilityCase, e: &Expectation) -> bool {
+    MISSED
+        .iter()
+        .any(|&(name, t, _)| name == case.name && t == e.target)
 }
+
+const HANGING: Failure = Failure::Violation(ViolationKind::HangingSleeper);
 
 fn describe(o: &Outcome) -> String {
     let v = o.violations;
@@ -134,10 +157,16 @@ fn check(name: &str) {
             describe(&off)
         );
         match case.expected.iter().find(|e| e.target == t) {
-            Some(e) if undetected(e) => assert!(
-                stability::shows(Failure::Deviation, &on, &off),
-                "{what}: the sleeper left in the air should move it away from the reference"
-            ),
+            Some(e) if e.failure == HANGING => {
+                assert!(
+                    stability::shows(Failure::Deviation, &on, &off),
+                    "{what}: the sleeper left in the air should move it away from the reference"
+                );
+                assert!(
+                    missed(case, e) || stability::shows(HANGING, &on, &off),
+                    "{what}: the hanging sleeper is not reported"
+                );
+            }
             Some(e) => assert!(
                 stability::shows(e.failure, &on, &off),
                 "{what}: expected {:?}",
@@ -220,25 +249,28 @@ fn fixation_leaves_boxes_hanging_when_their_shelf_moves_away() {
     check("static_moved");
 }
 
-/// Every hanging sleeper of the suite is reported by the monitor.
+/// Every hanging sleeper of the suite is reported by the monitor, [`MISSED`] included.
 ///
-/// Fails today, for two reasons in `src/monitor/hanging.rs`:
-/// - a fixated body is turned fixed, so its node's kind is `Fixed`, and the detector
-///   looks only at simulated nodes (`Rigid`, `Link`): a body held by fixation is never
-///   timed (hanging_sleeper, removed_support, platform_sleepers, static_moved under
-///   fixate: 0 reported). Accepting fixated bodies is not enough: a body turned fixed
-///   loses its contact pairs with fixed geometry (Rapier computes no fixed–fixed pair),
-///   so a fixated box on the ground or on another fixated box would look unsupported.
-/// - a body asleep in Rapier is looked at only while the layer refreshes it, on the
-///   ground that its support cannot change without Rapier waking it; changing gravity
-///   does not wake it (gravity_change under stock Rapier and the contact graph: 0
-///   reported, the three spheres hang in the air for 1.5 s).
+/// Fails today, for two reasons:
+/// - `src/monitor/hanging.rs`, `Hanging::check`: with zero gravity it returns before
+///   recording the gravity, so when gravity is switched on from zero there is no
+///   "before" to differ from, the change is not seen, and the sleepers are never
+///   re-judged (gravity_change under stock Rapier and the contact graph: 0 of 3
+///   reported; the spheres hang 1 m up for 1.5 s).
+/// - `src/speedups/mod.rs`, `SpeedUpState::support_ok`: a remembered supporter of kind
+///   `Fixed` is trusted for good, so a fixated body stays "supported" by a static
+///   collider that has since moved away (static_moved under fixate: 0 of 2 reported;
+///   the boxes hang 1 m up for 1.5 s).
 #[test]
-#[ignore = "monitor: fixated bodies and sleepers under a changed gravity are never looked at (see the docs)"]
+#[ignore = "monitor: gravity switched on from zero, and moved static geometry under fixated bodies, are not seen (see the docs)"]
 fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
-    let mut missed = Vec::new();
+    let mut unreported = Vec::new();
     for case in stability::suite() {
-        let expected: Vec<&Expectation> = case.expected.iter().filter(|e| undetected(e)).collect();
+        let expected: Vec<&Expectation> = case
+            .expected
+            .iter()
+            .filter(|e| e.failure == HANGING)
+            .collect();
         if expected.is_empty() {
             continue;
         }
@@ -247,7 +279,7 @@ fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
             let (on, _) = run(case, &case.target_spec(e.target), Some(&traj));
             let (off, _) = run(case, &case.control_spec(e.target), Some(&traj));
             if !stability::shows(e.failure, &on, &off) {
-                missed.push(format!(
+                unreported.push(format!(
                     "{} under {}: {}",
                     case.name,
                     e.target.name(),
@@ -257,9 +289,9 @@ fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
         }
     }
     assert!(
-        missed.is_empty(),
+        unreported.is_empty(),
         "hanging sleepers not reported:\n{}",
-        missed.join("\n")
+        unreported.join("\n")
     );
 }
 
@@ -296,4 +328,22 @@ fn the_suite_is_complete_cheap_and_deterministic() {
             case.name
         );
     }
+}
+
+/// Boxes fixated while resting on boxes are not reported as hanging.
+///
+/// Fails today (a false alarm): in bounce_on_sleepers under `CTR---F` (also `CTRZ--F`,
+/// `CTR--SF`, `CTRZ-SF`) the whole block is fixated within two steps; two steps later
+/// `SpeedUpState::fixation_supported` turns false for three top-layer boxes that rest
+/// on the bottom layer (y = 0.7495, the bottom boxes stay supported), and they are
+/// reported as hanging sleepers at step 32 and again at step 95.
+#[test]
+#[ignore = "monitor: fixated boxes resting on fixated boxes reported as hanging under CTR---F (see the docs)"]
+fn boxes_resting_on_fixated_boxes_are_not_hanging() {
+    let case = stability::case("bounce_on_sleepers").unwrap();
+    let (_, traj) = run(case, &stability::reference(), None);
+    let spec = RunSpec::combination(0b100_0111);
+    assert_eq!(spec.name, "CTR---F");
+    let (on, _) = run(case, &spec, Some(&traj));
+    assert_eq!(on.violations.hanging, 0, "{}", describe(&on));
 }

@@ -6,8 +6,9 @@
 //! turns gravity on (`(0, -9.81, 0)`, the scenes' usual), and they should fall to the
 //! ground. A sleeper that is not woken stays in the air: a hanging sleeper, from the
 //! step gravity is on. Measured: Rapier 0.36 does not wake them, so stock Rapier, the
-//! contact graph and every combination leave them in the air (and the monitor does not
-//! report it: it looks at a sleeper only when the layer refreshes it). The gravity the script sets depends on the step index alone, so
+//! contact graph and every combination leave them in the air. Under fixation they are
+//! held fixed as well, but every combination sleeps too, so fixation's share of the
+//! failure cannot be told apart. The gravity the script sets depends on the step index alone, so
 //! a replay from any step gives the same world.
 
 use rapier3d::math::{Real, Vector};

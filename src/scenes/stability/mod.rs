@@ -11,7 +11,7 @@
 //!
 //! | scene | built against | measured failure (this crate, Rapier 0.36) |
 //! |---|---|---|
-//! | [`hanging_sleeper`] | fixate | the upper sphere stays in the air (not reported: see below) |
+//! | [`hanging_sleeper`] | fixate | the upper sphere stays in the air |
 //! | [`fixated_pile`] | fixate | none under fixate; tweak and reduce: deep penetrations |
 //! | [`face_to_face`] | reduce | the column topples under reduce, and under tweak |
 //! | [`tower`] | tweak | none under tweak once warm start is on; reduce drops it |
@@ -22,8 +22,8 @@
 //! | [`removed_support`] | stock, sleepy, fixate | fixate only: the stack stays in the air |
 //! | [`platform_sleepers`] | stock, sleepy, fixate | fixate only: the boxes stay in the air |
 //! | [`jointed_sleeper`] | stock, sleepy, fixate | fixate only: the crate is not dragged |
-//! | [`gravity_change`] | stock, sleepy, fixate | every kind of sleep: the spheres hang |
-//! | [`static_moved`] | stock, sleepy, fixate | fixate only: the boxes stay in the air |
+//! | [`gravity_change`] | stock, sleepy | every kind of sleep: the spheres hang (not reported: see below) |
+//! | [`static_moved`] | stock, sleepy, fixate | fixate only: the boxes stay in the air (not reported: see below) |
 //!
 //! The measured table, with the reading of each row, is in the README ("Where the
 //! speed-ups fail — measured"); `cargo run --release --example stability` prints it.
@@ -58,16 +58,22 @@
 //! a plain value with a `fn` pointer), for the sake of five scripts.
 //!
 //! # What the monitor does not see yet
-//! Two kinds of hanging sleeper are not reported by [`crate::monitor`] (the suite's
-//! test for them is ignored, with the reason):
-//! - a body held by fixation: it is turned fixed, its node becomes `Fixed`, and the
-//!   hanging detector looks only at simulated nodes. Accepting fixated bodies is not
-//!   enough: a body turned fixed has no contact pair with fixed geometry (Rapier
-//!   computes none between fixed bodies), so on the ground it would look unsupported;
-//! - a body asleep in Rapier whose support changes without Rapier waking it (gravity
-//!   switched on): the detector looks at a sleeper only when the layer refreshes it.
+//! Two kinds of hanging sleeper in the suite are not reported by [`crate::monitor`]
+//! (the suite's test for them is ignored, with the reasons):
+//! - the spheres of [`gravity_change`] under stock Rapier and the contact graph: the
+//!   hanging detector re-judges held bodies when gravity *changes*, but it records
+//!   the gravity only once it is non-zero, so a switch from zero gravity (the
+//!   bevy_rapier #570 case) is not seen as a change;
+//! - the boxes of [`static_moved`] under fixation: what supported a body when it was
+//!   fixated is remembered, and static geometry is trusted as a supporter for good,
+//!   even once it has moved away.
 //!
-//! Until then those failures are measured by the motion they cause.
+//!
+//! And one false alarm: under `CTR---F` (cache, tweak, reduce, fixate) three boxes of
+//! [`bounce_on_sleepers`]' block, fixated while resting on the fixated bottom layer,
+//! lose their remembered support two steps later and are reported as hanging.
+//!
+//! Until the misses are fixed those failures are measured by the motion they cause.
 //!
 //! # Cost
 //! Every scene has at most 56 bodies and runs at most 600 steps; the whole table
@@ -487,7 +493,9 @@ static SUITE: [StabilityCase; 13] = [
         steps: 300,
         radius: gravity_change::RADIUS,
         measured: &[],
-        built_against: &[Target::StockSleep, Target::Sleepy, Target::Fixate],
+        // Not fixation: every combination sleeps, so fixation's control fails the same
+        // way and its share cannot be told apart.
+        built_against: &[Target::StockSleep, Target::Sleepy],
         base: 0,
         expected: &[
             fails(Target::StockSleep, HANGING),
