@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 
-use crate::monitor::{Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind};
+use crate::monitor::{Monitor, MonitorConfig, MonitorMode, Peaks, RepairConfig, ViolationKind};
 use crate::scenes::Scene;
 use crate::speedups::SpeedUps;
 use crate::{ContactLayer, WorldView};
@@ -129,6 +129,16 @@ impl Violations {
     pub fn total(&self) -> u64 {
         self.hanging + self.launch + self.penetration + self.escape
     }
+
+    /// The count of one kind.
+    pub fn get(&self, kind: ViolationKind) -> u64 {
+        match kind {
+            ViolationKind::HangingSleeper => self.hanging,
+            ViolationKind::Launch => self.launch,
+            ViolationKind::DeepPenetration => self.penetration,
+            ViolationKind::Escape => self.escape,
+        }
+    }
 }
 
 /// What one run measured.
@@ -146,6 +156,8 @@ pub struct RunResult {
     pub deviation: f64,
     /// Plausibility violations.
     pub violations: Violations,
+    /// How close each detector came to firing ([`Monitor::peaks`]): below 1, never.
+    pub peaks: Peaks,
     /// Mean number of contact groups per step (0 where groups are not computed).
     pub mean_groups: f64,
     /// Largest contact-variable count of a group, over the run.
@@ -332,9 +344,9 @@ pub fn run(
             traj.frames.push(sample(&scene, opts.bodies));
         }
     }
-    let totals = match layer.monitor() {
-        Some(m) => m.monitor().totals(),
-        None => monitor.totals(),
+    let (totals, peaks) = match layer.monitor() {
+        Some(m) => (m.monitor().totals(), m.monitor().peaks()),
+        None => (monitor.totals(), monitor.peaks()),
     };
     let violations = Violations {
         hanging: totals.get(ViolationKind::HangingSleeper),
@@ -365,6 +377,7 @@ pub fn run(
             tail_time_s: tail as f64 * 1e-6,
             deviation,
             violations,
+            peaks,
             mean_groups: groups_sum / n,
             max_largest_variables: max_vars,
             mean_awake: awake_sum / n,

@@ -10,6 +10,11 @@
 //! the world sees exactly what an unmodified Rapier program would produce. Building a
 //! scene twice gives bit-identical worlds: the only randomness is the seeded generator
 //! of [`sphere_pile`], and no hash-map order is involved.
+//!
+//! [`stability`] holds the stability suite (issue 5): scenes built to make the
+//! speed-ups fail, each with what it is built against and what it was measured to fail
+//! under. One of them starts with gravity off ([`stability::gravity_change`]), and
+//! their scripts find the bodies they drive by `user_data` tags.
 
 use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 
@@ -20,6 +25,7 @@ pub mod kinematic_platform;
 pub mod pendulum;
 pub mod pile;
 pub mod sphere_stack;
+pub mod stability;
 pub mod toppling_stack;
 pub mod trigger_ledge;
 pub mod two_piles;

@@ -9,11 +9,18 @@ use rapier_contact_graph::{ContactLayer, StepStats};
 pub fn run_validated(scene: &mut Scene, layer: &mut ContactLayer, first: u64, n: u64) -> StepStats {
     let mut stats = StepStats::default();
     for step in first..first + n {
-        scene.before_step(step);
-        stats = layer.step(&mut scene.world);
-        if let Err(e) = layer.validate(&scene.world) {
-            panic!("{}: validate() failed after step {}: {e}", scene.name, step);
-        }
+        stats = step_validated(scene, layer, step);
+    }
+    stats
+}
+
+/// One step of a scene with the layer (script first, `step` is the step index), then
+/// `validate()`; panics naming the scene and step if it fails.
+pub fn step_validated(scene: &mut Scene, layer: &mut ContactLayer, step: u64) -> StepStats {
+    scene.before_step(step);
+    let stats = layer.step(&mut scene.world);
+    if let Err(e) = layer.validate(&scene.world) {
+        panic!("{}: validate() failed after step {}: {e}", scene.name, step);
     }
     stats
 }
