@@ -15,7 +15,7 @@
 //! Rapier-sleeping bodies are "held"), and `validate()` runs after every step. A hanging
 //! sleeper must show as a violation *and* as a deviation (a body left in the air is
 //! away from the reference), except the ones the monitor does not report yet
-//! ([`MISSED`], checked by the ignored test at the end): those by the deviation alone.
+//! ([`MISSED`], empty today): those by the deviation alone.
 
 mod common;
 
@@ -92,25 +92,11 @@ fn run(
     )
 }
 
-/// The hanging sleepers the monitor does not report yet, with why (see the ignored
-/// test `the_monitor_reports_every_hanging_sleeper_of_the_suite`).
-const MISSED: [(&str, Target, &str); 3] = [
-    (
-        "gravity_change",
-        Target::StockSleep,
-        "gravity is recorded only once non-zero, so a switch from zero gravity is no change",
-    ),
-    (
-        "gravity_change",
-        Target::Sleepy,
-        "gravity is recorded only once non-zero, so a switch from zero gravity is no change",
-    ),
-    (
-        "static_moved",
-        Target::Fixate,
-        "static geometry remembered as a fixated body's support is trusted after it moved",
-    ),
-];
+/// The hanging sleepers the monitor does not report yet, with why: none today. (Gravity
+/// switched on from zero, and static geometry moved from under fixated bodies, were
+/// missed until the monitor remembered gravity before its zero-gravity early return and
+/// the fixation memory checked its static supporters' poses.)
+const MISSED: [(&str, Target, &str); 0] = [];
 
 fn missed(case: &StabilityCase, e: &Expectation) -> bool {
     MISSED
@@ -249,20 +235,8 @@ fn fixation_leaves_boxes_hanging_when_their_shelf_moves_away() {
     check("static_moved");
 }
 
-/// Every hanging sleeper of the suite is reported by the monitor, [`MISSED`] included.
-///
-/// Fails today, for two reasons:
-/// - `src/monitor/hanging.rs`, `Hanging::check`: with zero gravity it returns before
-///   recording the gravity, so when gravity is switched on from zero there is no
-///   "before" to differ from, the change is not seen, and the sleepers are never
-///   re-judged (gravity_change under stock Rapier and the contact graph: 0 of 3
-///   reported; the spheres hang 1 m up for 1.5 s).
-/// - `src/speedups/mod.rs`, `SpeedUpState::support_ok`: a remembered supporter of kind
-///   `Fixed` is trusted for good, so a fixated body stays "supported" by a static
-///   collider that has since moved away (static_moved under fixate: 0 of 2 reported;
-///   the boxes hang 1 m up for 1.5 s).
+/// Every hanging sleeper of the suite is reported by the monitor.
 #[test]
-#[ignore = "monitor: gravity switched on from zero, and moved static geometry under fixated bodies, are not seen (see the docs)"]
 fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
     let mut unreported = Vec::new();
     for case in stability::suite() {
@@ -330,15 +304,10 @@ fn the_suite_is_complete_cheap_and_deterministic() {
     }
 }
 
-/// Boxes fixated while resting on boxes are not reported as hanging.
-///
-/// Fails today (a false alarm): in bounce_on_sleepers under `CTR---F` (also `CTRZ--F`,
-/// `CTR--SF`, `CTRZ-SF`) the whole block is fixated within two steps; two steps later
-/// `SpeedUpState::fixation_supported` turns false for three top-layer boxes that rest
-/// on the bottom layer (y = 0.7495, the bottom boxes stay supported), and they are
-/// reported as hanging sleepers at step 32 and again at step 95.
+/// Boxes fixated while resting on boxes are not reported as hanging (a false alarm
+/// once: in bounce_on_sleepers under `CTR---F` the support memory of fixated bodies
+/// resting on each other was memoised inside a cycle and came out false).
 #[test]
-#[ignore = "monitor: fixated boxes resting on fixated boxes reported as hanging under CTR---F (see the docs)"]
 fn boxes_resting_on_fixated_boxes_are_not_hanging() {
     let case = stability::case("bounce_on_sleepers").unwrap();
     let (_, traj) = run(case, &stability::reference(), None);

@@ -67,6 +67,12 @@ impl Hanging {
         out: &mut Vec<Violation>,
         peaks: &mut Peaks,
     ) {
+        // Gravity is remembered before anything else, so that gravity switched on from
+        // zero is a change too (bevy_rapier #570: sleepers ignore it).
+        let gravity_changed = self
+            .gravity
+            .replace(ctx.view.gravity)
+            .is_some_and(|before| before != ctx.view.gravity);
         let g = ctx.view.gravity.length();
         if !g.is_finite() || g <= 0.0 {
             // Without gravity nothing hangs.
@@ -74,10 +80,6 @@ impl Hanging {
             return;
         }
         let up = -ctx.view.gravity / g;
-        let gravity_changed = self
-            .gravity
-            .replace(ctx.view.gravity)
-            .is_some_and(|before| before != ctx.view.gravity);
         self.look_near_changes(ctx, held, gravity_changed);
         for i in 0..self.near.len() {
             let (h, n) = self.near[i];

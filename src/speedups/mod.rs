@@ -46,7 +46,7 @@ pub use config::SpeedUps;
 use std::collections::BTreeMap;
 
 use rapier3d::dynamics::{RigidBodyActivation, RigidBodyType};
-use rapier3d::math::Vector;
+use rapier3d::math::{Pose, Vector};
 use rapier3d::prelude::{ActiveHooks, ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
@@ -63,7 +63,31 @@ struct Held {
     angvel: Vector,
     /// What supported it against gravity when it was fixated (see
     /// [`SpeedUpState::fixation_supported`]).
-    supports: Vec<NodeId>,
+    supports: Vec<Supporter>,
+}
+
+/// One thing that held a body against gravity when it was fixated.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+struct Supporter {
+    node: NodeId,
+    /// For static geometry (a fixed body or a parentless collider): its pose then. It
+    /// supports only while it has not moved.
+    pose: Option<Pose>,
+}
+
+/// The smallest cosine between a contact's push and "up" that the fixation memory
+/// counts as support: a side contact with a sliver of upward normal does not hold a
+/// body up.
+const MIN_SUPPORT_COS: f32 = 0.1;
+
+/// The pose of a static supporter: its body's, or its collider's if it has no body.
+fn static_pose(graph: &ContactGraph, view: &WorldView, n: NodeId) -> Option<Pose> {
+    match graph.node(n)?.source() {
+        NodeSource::Body(h) => view.bodies.get(h).map(|rb| *rb.position()),
+        NodeSource::StaticCollider(c) => view.colliders.get(c).map(|co| *co.position()),
+        _ => None,
+    }
 }
 
 /// Per-body rest tracking, indexed by body slot.
@@ -103,7 +127,7 @@ pub struct SpeedUpState {
     /// Eligibility changes to write in the pre-step.
     eligibility: Vec<(RigidBodyHandle, bool)>,
     /// Fixations and releases to apply in the pre-step.
-    to_fix: Vec<(RigidBodyHandle, Vec<NodeId>)>,
+    to_fix: Vec<(RigidBodyHandle, Vec<Supporter>)>,
     to_release: Vec<RigidBodyHandle>,
     held: BTreeMap<(u32, u32), Held>,
     /// Held bodies whose remembered support is gone (evaluated after each decision).
@@ -624,7 +648,16 @@ impl SpeedUpState {
                 let Some(h) = node.body() else { continue };
                 if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
                     let supports = if up.is_finite() && up != Vector::ZERO {
-                        graph.supports_of(n, up, 0.0).collect()
+                        graph
+                            .supports_of(n, up, MIN_SUPPORT_COS)
+                            .map(|m| Supporter {
+                                node: m,
+                                pose: graph
+                                    .node(m)
+                                    .filter(|s| s.kind() == NodeKind::Fixed)
+                                    .and_then(|_| static_pose(graph, view, m)),
+                            })
+                            .collect()
                     } else {
                         Vec::new()
                     };
@@ -663,82 +696,75 @@ impl SpeedUpState {
             .filter_map(|k| self.held.get(k).map(|h| h.handle))
     }
 
-    /// Re-evaluates [`Self::fixation_supported`] for every held body.
-    /// O(held bodies × their remembered supporters).
+    /// The supporters remembered for a body held by fixation (what held it against
+    /// gravity when it was fixated), in the order found; `None` for a body that is not
+    /// held. O(1).
+    pub fn fixation_supporters(&self, h: RigidBodyHandle) -> Option<Vec<NodeId>> {
+        self.held
+            .get(&key(h))
+            .map(|held| held.supports.iter().map(|s| s.node).collect())
+    }
+
+    /// Re-evaluates [`Self::fixation_supported`] for every held body: the least fixed
+    /// point of "supported" — a held body is supported if something supports it now
+    /// (a touching contact that pushes it up, computed by Rapier against bodies that
+    /// are not fixed), if a remembered static supporter is still where it was, or a
+    /// remembered scripted supporter is not moving; or if a remembered supporter is a
+    /// held body that is supported. Computed from the bases up (a cycle of held bodies
+    /// resting on each other supports nothing by itself). O(held bodies + their
+    /// remembered supporters).
     fn evaluate_support(&mut self, graph: &ContactGraph, view: &WorldView, up: Vector) {
         self.unsupported.clear();
         if !(up.is_finite() && up != Vector::ZERO) || self.held.is_empty() {
             return;
         }
-        let mut memo: BTreeMap<(u32, u32), bool> = BTreeMap::new();
-        let keys: Vec<(u32, u32)> = self.held.keys().copied().collect();
-        for k in keys {
-            self.support_ok(k, graph, view, up, &mut memo, 0);
-        }
-        self.unsupported
-            .extend(memo.into_iter().filter(|&(_, ok)| !ok).map(|(k, _)| k));
-    }
-
-    fn support_ok(
-        &self,
-        k: (u32, u32),
-        graph: &ContactGraph,
-        view: &WorldView,
-        up: Vector,
-        memo: &mut BTreeMap<(u32, u32), bool>,
-        depth: u32,
-    ) -> bool {
-        if let Some(&ok) = memo.get(&k) {
-            return ok;
-        }
-        let Some(held) = self.held.get(&k) else {
-            return false;
-        };
-        // Very deep chains are trusted (no false alarm) rather than recursed.
-        if depth > 256 {
-            return true;
-        }
-        memo.insert(k, false); // a cycle without a base supports nothing
-        let Some(n) = graph.node_of_body(held.handle) else {
-            return false;
-        };
-        let mut ok = graph.supports_of(n, up, 0.0).next().is_some();
-        if !ok {
-            for &m in &held.supports {
-                let Some(node) = graph.node(m) else { continue };
+        let mut supported: std::collections::BTreeSet<(u32, u32)> = Default::default();
+        let mut dependents: BTreeMap<(u32, u32), Vec<(u32, u32)>> = BTreeMap::new();
+        let mut queue: Vec<(u32, u32)> = Vec::new();
+        for (&k, held) in &self.held {
+            let Some(n) = graph.node_of_body(held.handle) else {
+                continue;
+            };
+            let mut base = graph.supports_of(n, up, MIN_SUPPORT_COS).next().is_some();
+            for s in &held.supports {
+                let Some(node) = graph.node(s.node) else {
+                    continue;
+                };
                 let supporter = node.body();
                 if let Some(mh) = supporter.filter(|&mh| self.held.contains_key(&key(mh))) {
-                    if self.support_ok(key(mh), graph, view, up, memo, depth + 1) {
-                        ok = true;
-                        break;
-                    }
+                    dependents.entry(key(mh)).or_default().push(k);
                     continue;
                 }
-                match node.kind() {
-                    NodeKind::Fixed => {
-                        ok = true;
-                        break;
-                    }
-                    NodeKind::Scripted => {
-                        let still =
-                            supporter
-                                .and_then(|mh| view.bodies.get(mh))
-                                .is_some_and(|rb| {
-                                    rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
-                                });
-                        if still {
-                            ok = true;
-                            break;
+                base |=
+                    match node.kind() {
+                        NodeKind::Fixed => {
+                            s.pose.is_some() && static_pose(graph, view, s.node) == s.pose
                         }
+                        NodeKind::Scripted => supporter
+                            .and_then(|mh| view.bodies.get(mh))
+                            .is_some_and(|rb| {
+                                rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
+                            }),
+                        // A simulated supporter supports only through a touching contact
+                        // now (checked above).
+                        _ => false,
+                    };
+            }
+            if base && supported.insert(k) {
+                queue.push(k);
+            }
+        }
+        while let Some(k) = queue.pop() {
+            if let Some(ds) = dependents.get(&k) {
+                for &d in ds {
+                    if supported.insert(d) {
+                        queue.push(d);
                     }
-                    // A simulated supporter supports only through a touching contact
-                    // now (checked above).
-                    _ => {}
                 }
             }
         }
-        memo.insert(k, ok);
-        ok
+        self.unsupported
+            .extend(self.held.keys().copied().filter(|k| !supported.contains(k)));
     }
 
     /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
