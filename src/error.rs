@@ -41,6 +41,15 @@ pub enum Error {
     },
     /// An invariant of the graph does not hold (reported by `validate()`).
     Invariant(String),
+    /// The call is refused because Rapier 0.36 cannot carry it out: it would panic in
+    /// Rapier's next step (see the "Rapier's own panics" part of [`crate::audit`]).
+    /// Nothing was changed.
+    Unsupported {
+        /// The call or change refused, in words.
+        what: &'static str,
+        /// Why Rapier cannot carry it out.
+        reason: &'static str,
+    },
 }
 
 impl fmt::Display for Error {
@@ -61,6 +70,7 @@ impl fmt::Display for Error {
                 write!(f, "invalid parameter `{name}`: {reason}")
             }
             Error::Invariant(msg) => write!(f, "graph invariant violated: {msg}"),
+            Error::Unsupported { what, reason } => write!(f, "{what} is not supported: {reason}"),
         }
     }
 }

@@ -542,7 +542,22 @@ impl ContactLayer {
     /// Makes a body passive (or active again) without deallocating it (paper §3.2): it
     /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
     /// flag is cleared in the pre-step, its edges end at the next analysis, and no
-    /// event names it while passive. O(1).
+    /// event names it while passive. Its impulse joints are disabled while it is
+    /// passive, as Rapier does itself for the joints a body has when it is disabled;
+    /// the layer does it for joints added later too (Rapier 0.36 panics on an enabled
+    /// joint between a disabled body and a fixed or disabled one), and Rapier enables
+    /// them again with the body. A joint the user disabled stays disabled. O(1).
+    ///
+    /// # Errors
+    /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
+    /// - [`Error::Unsupported`] for `passive = true` on a dynamic multibody member (a
+    ///   `Link` node): Rapier 0.36 does not carry a disabled multibody member and panics
+    ///   in its next step. The body is left as it is.
+    ///
+    /// The pre-step checks again what the world holds by then: a queued change for a
+    /// body that became a dynamic multibody member meanwhile is refused, and a passive
+    /// body that became one is made active again. Both are reported by
+    /// [`Self::refusals`] after that pre-step.
     ///
     /// # Example
     /// ```
@@ -565,8 +580,25 @@ impl ContactLayer {
     /// ```
     pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
         let node = self.graph.try_node_of_body(body)?;
+        if passive && self.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
+            return Err(Error::Unsupported {
+                what: "set_passive(true) on a multibody link",
+                reason: "Rapier 0.36 panics in its next step on a disabled multibody \
+                         root while its links are enabled, and does not disable a \
+                         multibody with its members",
+            });
+        }
         self.logic.queue_passive(body, node, passive);
         Ok(())
+    }
+
+    /// What the last pre-step refused or undid because Rapier 0.36 would panic on it,
+    /// each with the body and an [`Error::Unsupported`] saying why: a queued
+    /// [`Self::set_passive`] of a body that had become a dynamic multibody member, or a
+    /// passive body that the user joined to a multibody (made active again). Empty
+    /// almost always; cleared by every pre-step. O(1).
+    pub fn refusals(&self) -> &[(RigidBodyHandle, Error)] {
+        &self.logic.refusals
     }
 
     // ── Containers ─────────────────────────────────────────────────────

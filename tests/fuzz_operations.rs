@@ -1851,7 +1851,9 @@ mod fuzz {
 #[cfg(test)]
 mod regressions {
     use rapier3d::prelude::*;
-    use rapier_contact_graph::{Category, ContactLayer, EdgeKind, NodeKind, Rule, WorldView};
+    use rapier_contact_graph::{
+        Category, ContactLayer, EdgeKind, Error, NodeKind, Rule, WorldView,
+    };
 
     /// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
     #[test]
@@ -2095,10 +2097,8 @@ mod regressions {
         layer.validate(&world).unwrap();
     }
 
-    #[test]
-    #[ignore = "bug: set_passive on a multibody body in contact makes the next step panic inside Rapier's solver"]
-    fn bug_set_passive_on_a_multibody_root_panics_in_rapier() {
-        let mut world = PhysicsWorld::new();
+    /// A chain root – link on a floor, a free ball overlapping the link.
+    fn multibody_chain(world: &mut PhysicsWorld) -> (RigidBodyHandle, RigidBodyHandle) {
         world.insert(
             RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
             ColliderBuilder::cuboid(3.0, 0.25, 3.0),
@@ -2114,18 +2114,88 @@ mod regressions {
             )
             .unwrap();
         world.insert(ball(0.5), ColliderBuilder::ball(0.25)); // overlaps the link
+        (root, link)
+    }
+
+    /// Panicked when this fuzzing found it ("Matrix slicing out of bounds" in Rapier's
+    /// `GenericRhs::apply_impulse`: Rapier 0.36 does not carry a disabled multibody
+    /// root with enabled links); `set_passive` refuses multibody members since.
+    #[test]
+    fn fixed_set_passive_on_a_multibody_member_is_refused() {
+        let mut world = PhysicsWorld::new();
+        let (root, link) = multibody_chain(&mut world);
         let mut layer = ContactLayer::new();
         layer.step(&mut world);
-        layer.set_passive(root, true).unwrap();
-        // Panics: "Matrix slicing out of bounds" (nalgebra) in Rapier's
-        // GenericRhs::apply_impulse, warm-starting the link's contact. Plain Rapier does
-        // the same after `set_enabled(false)` on the root: an upstream bug that the
-        // layer's passive bodies reach (the layer could refuse or defer multibody
-        // members).
+        for body in [root, link] {
+            match layer.set_passive(body, true) {
+                Err(Error::Unsupported { .. }) => {}
+                other => panic!("set_passive(true) on a multibody member: {other:?}"),
+            }
+            // Making it active is always accepted (a no-op here).
+            layer.set_passive(body, false).unwrap();
+        }
         for _ in 0..5 {
             layer.step(&mut world);
+            layer.validate(&world).unwrap();
         }
+        assert!(world.bodies[root].is_enabled() && world.bodies[link].is_enabled());
+        assert!(layer.refusals().is_empty());
+    }
+
+    /// The same, reached around `set_passive`'s own check: the body becomes a multibody
+    /// member between `set_passive` and the pre-step, or after it was made passive.
+    #[test]
+    fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
+        // Joined between `set_passive` and the pre-step: refused there.
+        let mut world = PhysicsWorld::new();
+        world.insert(
+            RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+            ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+        );
+        let ball = |y: f32| RigidBodyBuilder::dynamic().translation(Vector::new(0.0, y, 0.0));
+        let a = world.insert(ball(1.0), ColliderBuilder::ball(0.25)).0;
+        let b = world.insert(ball(0.5), ColliderBuilder::ball(0.25)).0;
+        world.insert(ball(0.5), ColliderBuilder::ball(0.25)); // overlaps b
+        let mut layer = ContactLayer::new();
+        layer.step(&mut world);
+        layer.set_passive(a, true).unwrap();
+        let joint = RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0));
+        world.insert_multibody_joint(a, b, joint).unwrap();
+        layer.step(&mut world);
+        assert!(
+            world.bodies[a].is_enabled(),
+            "the queued change was refused"
+        );
+        assert_eq!(layer.refusals().len(), 1);
+        assert_eq!(layer.refusals()[0].0, a);
+        assert!(matches!(layer.refusals()[0].1, Error::Unsupported { .. }));
         layer.validate(&world).unwrap();
+        layer.step(&mut world);
+        assert!(layer.refusals().is_empty(), "reported once");
+
+        // Joined after the body was made passive: made active again.
+        let mut world = PhysicsWorld::new();
+        world.insert(
+            RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+            ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+        );
+        let a = world.insert(ball(1.0), ColliderBuilder::ball(0.25)).0;
+        let b = world.insert(ball(0.5), ColliderBuilder::ball(0.25)).0;
+        world.insert(ball(0.5), ColliderBuilder::ball(0.25));
+        let mut layer = ContactLayer::new();
+        layer.step(&mut world);
+        layer.set_passive(a, true).unwrap();
+        layer.step(&mut world);
+        assert!(!world.bodies[a].is_enabled());
+        let na = layer.node_of_body(a).unwrap();
+        assert!(layer.graph().node(na).unwrap().is_passive());
+        world.insert_multibody_joint(a, b, joint).unwrap();
+        for _ in 0..5 {
+            layer.step(&mut world); // panicked in Rapier's step before the guard
+            layer.validate(&world).unwrap();
+        }
+        assert!(world.bodies[a].is_enabled(), "made active again");
+        assert!(!layer.graph().node(na).unwrap().is_passive());
     }
 
     #[test]
@@ -2247,32 +2317,77 @@ mod regressions {
         layer.validate(&world).unwrap();
     }
 
+    /// Panicked when this fuzzing found it ("entered unreachable code" in Rapier's
+    /// `interaction_groups.rs`: an enabled joint between two bodies the solver sees as
+    /// fixed; plain Rapier does the same with `set_enabled(false)`, since it disables a
+    /// disabled body's joints only when the body is disabled). The layer disables the
+    /// joints of its passive bodies in every pre-step since.
     #[test]
-    #[ignore = "bug: an impulse joint between a fixed body and a passive body in contact makes Rapier's step panic"]
-    fn bug_a_joint_to_a_passive_body_panics_in_rapier() {
-        let mut world = PhysicsWorld::new();
-        world.insert(
-            RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
-            ColliderBuilder::cuboid(3.0, 0.25, 3.0),
-        );
-        let ball = || RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0));
-        let passive = world.insert(ball(), ColliderBuilder::ball(0.25)).0;
-        let fixed = world.insert(ball(), ColliderBuilder::ball(0.25)).0;
-        for _ in 0..3 {
-            world.insert(ball(), ColliderBuilder::ball(0.25)); // all overlapping
-        }
-        world.bodies[fixed].set_body_type(RigidBodyType::Fixed, true);
-        let mut layer = ContactLayer::new();
-        layer.step(&mut world);
-        layer.set_passive(passive, true).unwrap();
-        layer.step(&mut world);
-        world.insert_impulse_joint(fixed, passive, FixedJointBuilder::new());
-        // Panics: "internal error: entered unreachable code" in Rapier's
-        // interaction_groups.rs (a joint between two bodies the solver sees as fixed).
-        // Plain Rapier with `set_enabled(false)` does the same: an upstream bug that the
-        // layer's passive bodies reach.
-        for _ in 0..5 {
+    fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
+        for other_passive in [false, true] {
+            let mut world = PhysicsWorld::new();
+            world.insert(
+                RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+                ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+            );
+            let ball = || RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0));
+            let passive = world.insert(ball(), ColliderBuilder::ball(0.25)).0;
+            let other = world.insert(ball(), ColliderBuilder::ball(0.25)).0;
+            for _ in 0..3 {
+                world.insert(ball(), ColliderBuilder::ball(0.25)); // all overlapping
+            }
+            if !other_passive {
+                world.bodies[other].set_body_type(RigidBodyType::Fixed, true);
+            }
+            let mut layer = ContactLayer::new();
             layer.step(&mut world);
+            layer.set_passive(passive, true).unwrap();
+            if other_passive {
+                layer.set_passive(other, true).unwrap();
+            }
+            layer.step(&mut world);
+            // A joint between a passive body and a fixed (or passive) one, added by the
+            // user: Rapier's step panicked on it.
+            let j = world.insert_impulse_joint(other, passive, FixedJointBuilder::new());
+            for _ in 0..5 {
+                layer.step(&mut world);
+                layer.validate(&world).unwrap();
+            }
+            assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
+            // Active again: Rapier enables the joint with the body (and a passive other
+            // end has it disabled again at the next pre-step).
+            layer.set_passive(passive, false).unwrap();
+            for _ in 0..5 {
+                layer.step(&mut world);
+                layer.validate(&world).unwrap();
+            }
+            assert!(world.bodies[passive].is_enabled());
+            assert_eq!(
+                world.impulse_joints.get(j).unwrap().data.is_enabled(),
+                !other_passive
+            );
+            if other_passive {
+                layer.set_passive(other, false).unwrap();
+                for _ in 0..5 {
+                    layer.step(&mut world);
+                    layer.validate(&world).unwrap();
+                }
+                assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());
+            }
+            // A joint the user disabled stays disabled through a passive spell.
+            let k = world.insert_impulse_joint(other, passive, FixedJointBuilder::new());
+            world
+                .impulse_joints
+                .get_mut(k, false)
+                .unwrap()
+                .data
+                .set_enabled(false);
+            layer.set_passive(passive, true).unwrap();
+            layer.step(&mut world);
+            layer.set_passive(passive, false).unwrap();
+            layer.step(&mut world);
+            assert!(!world.impulse_joints.get(k).unwrap().data.is_enabled());
+            assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());
         }
     }
 
@@ -2539,47 +2654,64 @@ mod regressions {
         layer.validate(&world).unwrap();
     }
 
+    /// Panicked when this fuzzing found it ("A rigid-body that is not at the root of a
+    /// multibody must be dynamic", Rapier's multibody.rs: the pre-step applied the
+    /// fixation decided at the last analysis to what had become a multibody link). The
+    /// pre-step checks the body again since, and releases a held body joined as a link.
     #[test]
-    #[ignore = "bug: a fixation decided for a body that becomes a multibody link before the next step makes Rapier panic"]
-    fn bug_a_deferred_fixation_of_a_new_multibody_link_panics_in_rapier() {
+    fn fixed_a_deferred_fixation_of_a_new_multibody_link_is_skipped() {
         use rapier_contact_graph::speedups::SpeedUps;
-        let mut world = PhysicsWorld::new();
-        world.insert(
-            RigidBodyBuilder::fixed(),
-            ColliderBuilder::cuboid(5.0, 0.5, 5.0),
-        );
-        let ball = |x: f32| RigidBodyBuilder::dynamic().translation(Vector::new(x, 1.0, 0.0));
-        let root = world.insert(ball(-2.0), ColliderBuilder::ball(0.5)).0;
-        let link = world.insert(ball(2.0), ColliderBuilder::ball(0.5)).0;
-        let mut layer = ContactLayer::new();
-        layer
-            .set_speedups(Some(SpeedUps {
-                fixate: true,
-                ..SpeedUps::contact_graph()
-            }))
-            .unwrap();
-        for _ in 0..200 {
-            layer.step(&mut world);
-            if layer.speedups().unwrap().stats().fixations > 0 {
-                break;
+        for already_held in [false, true] {
+            let mut world = PhysicsWorld::new();
+            world.insert(
+                RigidBodyBuilder::fixed(),
+                ColliderBuilder::cuboid(5.0, 0.5, 5.0),
+            );
+            let ball = |x: f32| RigidBodyBuilder::dynamic().translation(Vector::new(x, 1.0, 0.0));
+            let root = world.insert(ball(-2.0), ColliderBuilder::ball(0.5)).0;
+            let link = world.insert(ball(2.0), ColliderBuilder::ball(0.5)).0;
+            let mut layer = ContactLayer::new();
+            layer
+                .set_speedups(Some(SpeedUps {
+                    fixate: true,
+                    ..SpeedUps::contact_graph()
+                }))
+                .unwrap();
+            for _ in 0..200 {
+                layer.step(&mut world);
+                if layer.speedups().unwrap().stats().fixations > 0 {
+                    break;
+                }
             }
+            assert!(
+                layer.speedups().unwrap().stats().fixations > 0,
+                "fixations decided"
+            );
+            assert!(
+                world.bodies[link].is_dynamic(),
+                "applied at the next pre-step only"
+            );
+            if already_held {
+                layer.step(&mut world);
+                assert!(layer.speedups().unwrap().is_fixated(link), "held");
+                assert!(world.bodies[link].is_fixed());
+                // Rapier accepts the held (fixed) body as a link, then asserts in its
+                // step that a link is dynamic.
+                world
+                    .insert_multibody_joint(root, link, RevoluteJointBuilder::new(Vector::Z))
+                    .unwrap();
+            } else {
+                // The user joins the still dynamic body to a multibody, as a link.
+                world
+                    .insert_multibody_joint(root, link, RevoluteJointBuilder::new(Vector::Z))
+                    .unwrap();
+            }
+            for _ in 0..5 {
+                layer.step(&mut world); // panicked in Rapier's step before the guard
+                layer.validate(&world).unwrap();
+            }
+            assert!(world.bodies[link].is_dynamic(), "a link stays dynamic");
+            assert!(!layer.speedups().unwrap().is_fixated(link));
         }
-        assert!(
-            layer.speedups().unwrap().stats().fixations > 0,
-            "fixations decided"
-        );
-        assert!(
-            world.bodies[link].is_dynamic(),
-            "applied at the next pre-step only"
-        );
-        // The user joins the still dynamic body to a multibody, as a link.
-        world
-            .insert_multibody_joint(root, link, RevoluteJointBuilder::new(Vector::Z))
-            .unwrap();
-        // Panics: "A rigid-body that is not at the root of a multibody must be dynamic"
-        // (Rapier's multibody.rs): the pre-step applies the fixation decided last step
-        // (type Fixed) to what is now a multibody link. Fixation skips `Link` nodes when
-        // deciding, but not when applying.
-        layer.step(&mut world);
     }
 }

@@ -21,9 +21,11 @@ pub(crate) mod timers;
 
 use std::collections::{BTreeMap, HashMap};
 
+use rapier3d::dynamics::JointEnabled;
 use rapier3d::prelude::{
-    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, IntegrationParameters,
-    IslandManager, PhysicsWorld, RigidBodyHandle, RigidBodySet,
+    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, ImpulseJointHandle,
+    ImpulseJointSet, IntegrationParameters, IslandManager, MultibodyJointSet, PhysicsWorld,
+    RigidBodyHandle, RigidBodySet,
 };
 
 pub use containers::ContainerSource;
@@ -44,6 +46,11 @@ pub struct WorldMut<'a> {
     pub islands: &'a mut IslandManager,
     /// Integration parameters (solver iterations, caching: the speed-ups).
     pub integration_parameters: &'a mut IntegrationParameters,
+    /// Impulse joints (the joints of a passive body are disabled while it is passive).
+    pub impulse_joints: &'a mut ImpulseJointSet,
+    /// Multibody joints, read only (multibody members are neither made passive nor
+    /// fixated: Rapier 0.36 panics on both).
+    pub multibody_joints: &'a MultibodyJointSet,
 }
 
 impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
@@ -53,7 +60,19 @@ impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
             colliders: &mut w.colliders,
             islands: &mut w.islands,
             integration_parameters: &mut w.integration_parameters,
+            impulse_joints: &mut w.impulse_joints,
+            multibody_joints: &w.multibody_joints,
         }
+    }
+}
+
+/// The refusal of a passive dynamic multibody member.
+fn multibody_refusal(what: &'static str) -> crate::Error {
+    crate::Error::Unsupported {
+        what,
+        reason: "a dynamic multibody member cannot be passive: Rapier 0.36 panics in its \
+                 next step on a disabled multibody root while its links are enabled \
+                 (the body is left active)",
     }
 }
 
@@ -78,6 +97,12 @@ pub(crate) struct Logic {
     pub(crate) declared: BTreeMap<NodeId, Vec<NodeId>>,
     /// Passive changes to apply in the pre-step.
     passive_queue: Vec<(RigidBodyHandle, bool)>,
+    /// The bodies the layer holds passive (disabled in Rapier), by raw handle.
+    passive: BTreeMap<(u32, u32), RigidBodyHandle>,
+    /// What the last pre-step refused or undid (see [`Logic::pre_step`]).
+    pub(crate) refusals: Vec<(RigidBodyHandle, crate::Error)>,
+    /// Scratch: joints of passive bodies to disable.
+    scratch_joints: Vec<ImpulseJointHandle>,
     /// Bodies to wake in the pre-step (members of changed rules).
     wake_queue: Vec<RigidBodyHandle>,
     /// Nodes the next analysis must refresh even if asleep.
@@ -194,10 +219,9 @@ impl Logic {
                 }
             }
         }
-        for (h, passive) in std::mem::take(&mut self.passive_queue) {
-            if let Some(rb) = world.bodies.get_mut(h) {
-                rb.set_enabled(!passive);
-            }
+        self.refusals.clear();
+        if !self.passive_queue.is_empty() || !self.passive.is_empty() {
+            self.apply_passive(graph, world);
         }
         // Sensors are widened before their first Rapier step: Rapier pairs colliders
         // that do not move only when they appear, so widening later would miss
@@ -210,6 +234,96 @@ impl Logic {
                 }
             }
         }
+    }
+
+    /// Applies the queued passive changes, then guards the passive bodies against what
+    /// Rapier 0.36 panics on. Called by the pre-step when a change is queued or a body
+    /// is passive. Cost: O(queued changes + passive bodies), the joint part only when
+    /// the world has impulse joints and the multibody part only when it has multibodies;
+    /// O(1) per passive body (plus its joints).
+    ///
+    /// Why a guard and not only a check in `set_passive`: the user can change the world
+    /// between `set_passive` and the pre-step, or after it, with calls the layer does
+    /// not see (a joint added to a passive body). Rapier panics in its next step on:
+    /// - a disabled multibody member that the solver needs (the root, or the first link
+    ///   under a fixed root) while other links are enabled ("Matrix slicing out of
+    ///   bounds" in the contact solver: Rapier does not propagate `set_enabled` to
+    ///   multibodies, a `FIXME` in its `user_changes.rs`). Guard: a dynamic multibody
+    ///   member is never made passive, and a passive body that became one is made
+    ///   active again; both are reported in [`Logic::refusals`].
+    /// - an enabled impulse joint between a disabled body and a fixed or disabled one
+    ///   ("unreachable" in `interaction_groups.rs`). Rapier marks a disabled body's
+    ///   joints `DisabledByAttachedBody` when the body is disabled, but not a joint
+    ///   added later. Guard: the layer does the same for every enabled joint of a
+    ///   passive body, each pre-step; Rapier re-enables such joints when the body is
+    ///   enabled again, so nothing is lost. A joint the user disabled stays disabled.
+    fn apply_passive(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
+        let dynamic_member = |world: &WorldMut, h: RigidBodyHandle| {
+            world.multibody_joints.rigid_body_link(h).is_some()
+                && world.bodies.get(h).is_some_and(|rb| rb.is_dynamic())
+        };
+        for (h, passive) in std::mem::take(&mut self.passive_queue) {
+            if !world.bodies.contains(h) {
+                self.passive.remove(&h.into_raw_parts());
+                continue;
+            }
+            if passive && dynamic_member(world, h) {
+                // Nothing changes: the body stays as it is (active, or passive if it
+                // was; a passive member is made active just below).
+                self.refusals
+                    .push((h, multibody_refusal("set_passive(true)")));
+                continue;
+            }
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_enabled(!passive);
+            }
+            if passive {
+                self.passive.insert(h.into_raw_parts(), h);
+            } else {
+                self.passive.remove(&h.into_raw_parts());
+            }
+        }
+        let has_multibodies = world.multibody_joints.multibodies().next().is_some();
+        let has_joints = !world.impulse_joints.is_empty();
+        let mut undo = Vec::new();
+        let mut joints = std::mem::take(&mut self.scratch_joints);
+        joints.clear();
+        self.passive.retain(|_, &mut h| match world.bodies.get(h) {
+            None => false,
+            Some(rb) if rb.is_enabled() => false, // enabled by the user meanwhile
+            Some(_) if has_multibodies && dynamic_member(world, h) => {
+                undo.push(h);
+                false
+            }
+            Some(_) => {
+                if has_joints {
+                    for (_, _, j, joint) in world.impulse_joints.attached_joints(h) {
+                        if joint.data.enabled == JointEnabled::Enabled {
+                            joints.push(j);
+                        }
+                    }
+                }
+                true
+            }
+        });
+        for h in undo {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_enabled(true);
+            }
+            if let Some(n) = graph.node_of_body(h) {
+                self.force.push(n);
+            }
+            self.refusals
+                .push((h, multibody_refusal("a passive body joined to a multibody")));
+        }
+        joints.sort_by_key(|j| j.into_raw_parts());
+        joints.dedup();
+        for &j in &joints {
+            if let Some(joint) = world.impulse_joints.get_mut(j, false) {
+                joint.data.enabled = JointEnabled::DisabledByAttachedBody;
+            }
+        }
+        self.scratch_joints = joints;
     }
 
     /// Whether any collider carries a flag set by the layer.
