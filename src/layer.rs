@@ -118,8 +118,12 @@ impl ContactLayer {
     pub fn pre_step(&mut self, mut world: WorldMut) {
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
-        self.logic
-            .pre_step(&self.graph, &mut world, colliders_changed);
+        self.logic.pre_step(
+            &self.graph,
+            &mut world,
+            colliders_changed,
+            self.coherence.created_nodes(),
+        );
         if let Some(s) = &mut self.speedups {
             s.pre_step(&mut world, &mut self.logic.hooks.mods);
         }
@@ -543,10 +547,11 @@ impl ContactLayer {
     /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
     /// flag is cleared in the pre-step, its edges end at the next analysis, and no
     /// event names it while passive. Its impulse joints are disabled while it is
-    /// passive, as Rapier does itself for the joints a body has when it is disabled;
-    /// the layer does it for joints added later too (Rapier 0.36 panics on an enabled
-    /// joint between a disabled body and a fixed or disabled one), and Rapier enables
-    /// them again with the body. A joint the user disabled stays disabled. O(1).
+    /// passive (`JointEnabled::Disabled`), joints added later included, and enabled
+    /// again in the pre-step once both their bodies are active: Rapier 0.36 panics on an
+    /// enabled joint between a disabled body and a fixed or disabled one, and its own
+    /// `DisabledByAttachedBody` marks are undone whenever the other body is inserted or
+    /// enabled. A joint the user disabled stays disabled. O(1).
     ///
     /// # Errors
     /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);

@@ -101,6 +101,9 @@ pub(crate) struct Logic {
     passive: BTreeMap<(u32, u32), RigidBodyHandle>,
     /// What the last pre-step refused or undid (see [`Logic::pre_step`]).
     pub(crate) refusals: Vec<(RigidBodyHandle, crate::Error)>,
+    /// Impulse joints the layer disabled because an end is passive, by raw handle:
+    /// enabled again once both ends are enabled and not passive.
+    held_joints: BTreeMap<(u32, u32), ImpulseJointHandle>,
     /// Scratch: joints of passive bodies to disable.
     scratch_joints: Vec<ImpulseJointHandle>,
     /// Bodies to wake in the pre-step (members of changed rules).
@@ -174,13 +177,16 @@ impl Logic {
         out
     }
 
-    /// Applies the queued changes to the world. Cost: O(1) when nothing is queued, else
-    /// O(rule members + their colliders).
+    /// Applies the queued changes to the world. `new_nodes` are the nodes the last
+    /// analysis created (its new triggers are widened). Cost: O(1) when nothing is
+    /// queued, else O(rule members + their colliders), plus O(new nodes), plus
+    /// O(colliders) when their count changed.
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
         world: &mut WorldMut,
         colliders_changed: bool,
+        new_nodes: &[NodeId],
     ) {
         if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) {
             self.rules_dirty = false;
@@ -220,27 +226,56 @@ impl Logic {
             }
         }
         self.refusals.clear();
-        if !self.passive_queue.is_empty() || !self.passive.is_empty() {
+        if !self.passive_queue.is_empty()
+            || !self.passive.is_empty()
+            || !self.held_joints.is_empty()
+        {
             self.apply_passive(graph, world);
         }
         // Sensors are widened before their first Rapier step: Rapier pairs colliders
         // that do not move only when they appear, so widening later would miss
-        // triggers on fixed bodies. Scanned only when the collider count changed.
+        // triggers on fixed bodies. Scanned only when the collider count changed; a
+        // collider turned into a sensor in place (no count change) is widened once the
+        // analysis has made its trigger node.
         if self.widen_sensors && colliders_changed {
             for (c, col) in world.colliders.iter_mut() {
                 if col.is_sensor() && !self.widened.contains_key(&c) {
                     self.widened.insert(c, col.active_collision_types());
                     col.set_active_collision_types(ActiveCollisionTypes::all());
+                    // Its intersections change in Rapier's step: the trigger (if it has
+                    // a node already) is read at the next analysis, even if nothing
+                    // that carries or meets it is refreshed.
+                    if let Some(t) = graph.node_of_sensor(c) {
+                        self.force.push(t);
+                    }
+                }
+            }
+        }
+        if self.widen_sensors {
+            for &t in new_nodes {
+                let Some(NodeSource::Sensor(c)) = graph.node(t).map(|n| n.source()) else {
+                    continue;
+                };
+                if self.widened.contains_key(&c) {
+                    continue;
+                }
+                if let Some(col) = world.colliders.get_mut(c).filter(|c| c.is_sensor()) {
+                    self.widened.insert(c, col.active_collision_types());
+                    if col.active_collision_types() != ActiveCollisionTypes::all() {
+                        col.set_active_collision_types(ActiveCollisionTypes::all());
+                        self.force.push(t);
+                    }
                 }
             }
         }
     }
 
     /// Applies the queued passive changes, then guards the passive bodies against what
-    /// Rapier 0.36 panics on. Called by the pre-step when a change is queued or a body
-    /// is passive. Cost: O(queued changes + passive bodies), the joint part only when
-    /// the world has impulse joints and the multibody part only when it has multibodies;
-    /// O(1) per passive body (plus its joints).
+    /// Rapier 0.36 panics on. Called by the pre-step when a change is queued, a body is
+    /// passive or a joint is held disabled. Cost: O(queued changes + passive bodies +
+    /// held joints), the joint part only when the world has impulse joints and the
+    /// multibody part only when it has multibodies; O(1) per passive body (plus its
+    /// joints).
     ///
     /// Why a guard and not only a check in `set_passive`: the user can change the world
     /// between `set_passive` and the pre-step, or after it, with calls the layer does
@@ -254,9 +289,13 @@ impl Logic {
     /// - an enabled impulse joint between a disabled body and a fixed or disabled one
     ///   ("unreachable" in `interaction_groups.rs`). Rapier marks a disabled body's
     ///   joints `DisabledByAttachedBody` when the body is disabled, but not a joint
-    ///   added later. Guard: the layer does the same for every enabled joint of a
-    ///   passive body, each pre-step; Rapier re-enables such joints when the body is
-    ///   enabled again, so nothing is lost. A joint the user disabled stays disabled.
+    ///   added later, and it enables every `DisabledByAttachedBody` joint of a body
+    ///   that is inserted or enabled, whatever the other end (a new fixed body jointed
+    ///   to a passive one panics so). Guard: each pre-step, the layer disables every
+    ///   joint of a passive body that the user did not disable (`Disabled`, which
+    ///   Rapier never changes) and remembers it; it enables it again once both its
+    ///   bodies are enabled and not passive. Nothing is lost; a joint the user disabled
+    ///   stays disabled.
     fn apply_passive(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
         let dynamic_member = |world: &WorldMut, h: RigidBodyHandle| {
             world.multibody_joints.rigid_body_link(h).is_some()
@@ -298,7 +337,7 @@ impl Logic {
             Some(_) => {
                 if has_joints {
                     for (_, _, j, joint) in world.impulse_joints.attached_joints(h) {
-                        if joint.data.enabled == JointEnabled::Enabled {
+                        if joint.data.enabled != JointEnabled::Disabled {
                             joints.push(j);
                         }
                     }
@@ -320,7 +359,34 @@ impl Logic {
         joints.dedup();
         for &j in &joints {
             if let Some(joint) = world.impulse_joints.get_mut(j, false) {
-                joint.data.enabled = JointEnabled::DisabledByAttachedBody;
+                joint.data.enabled = JointEnabled::Disabled;
+                self.held_joints.insert(j.into_raw_parts(), j);
+            }
+        }
+        // Held joints whose two bodies are enabled and not passive are enabled again;
+        // removed joints are forgotten.
+        joints.clear();
+        let passive = &self.passive;
+        self.held_joints.retain(|_, &mut j| {
+            let Some(joint) = world.impulse_joints.get(j) else {
+                return false;
+            };
+            let free = |h: RigidBodyHandle| {
+                world.bodies.get(h).is_some_and(|rb| rb.is_enabled())
+                    && !passive.contains_key(&h.into_raw_parts())
+            };
+            if free(joint.body1()) && free(joint.body2()) {
+                joints.push(j);
+                false
+            } else {
+                true
+            }
+        });
+        for &j in &joints {
+            if let Some(joint) = world.impulse_joints.get_mut(j, false) {
+                if joint.data.enabled == JointEnabled::Disabled {
+                    joint.data.enabled = JointEnabled::Enabled;
+                }
             }
         }
         self.scratch_joints = joints;
