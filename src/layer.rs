@@ -198,6 +198,11 @@ impl ContactLayer {
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen);
         let step = self.coherence.step();
+        for r in self.coherence.removed_nodes() {
+            if let NodeSource::Body(h) = r.source {
+                self.logic.forget_body(h);
+            }
+        }
 
         // Containers follow the joints; bodies whose structure changed are regrouped
         // (and their kind refreshed: multibody links are `Link`s).
@@ -753,9 +758,12 @@ impl ContactLayer {
         self.coherence.set_contact_details(on);
     }
 
-    /// Asks for a full scan of bodies and colliders at the next update. Needed only
-    /// after changing a *sleeping or fixed* body in place in a way Rapier does not
-    /// wake it for (e.g. its type); adding and removing bodies is detected.
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// reads every node's pairs and every trigger again. Needed only after changing a
+    /// *sleeping, fixed or passive* body, or static geometry, in place in a way Rapier
+    /// does not wake it for (its type, moving a fixed body or a parentless collider, a
+    /// sensor flag); adding and removing bodies and colliders is detected, and so is a
+    /// moved trigger. That update costs O(nodes + pairs).
     pub fn request_full_sync(&mut self) {
         self.coherence.request_full_sync();
     }

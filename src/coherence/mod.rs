@@ -7,7 +7,9 @@
 //! paper's "relative transform unchanged → skip the narrow phase" test (contact
 //! recycling). So this pass runs *after* Rapier's step, reading the narrow phase:
 //! 1. node upkeep (`nodes.rs`): bodies awake now or at the last update are refreshed;
-//!    a full scan only when the body or collider count changed;
+//!    a full scan only when the body or collider count changed (it refreshes the
+//!    bodies whose own collider count changed) or on request (it refreshes every
+//!    node);
 //! 2. edge insertion and marks (`pairs.rs`, Figs. 3 and 5): each collider pair of a
 //!    refreshed body is aggregated into the physical edge of its two bodies, whose
 //!    proximity and touching states are shifted to `e_old` first;
@@ -17,6 +19,34 @@
 //!
 //! The cost is proportional to the refreshed bodies' pairs, never to all pairs: the
 //! pairs of sleeping bodies are frozen in Rapier and stay exact in the graph.
+//!
+//! # Overlaps whose two sides are never refreshed
+//! Refreshing only what moves misses a change of an overlap between two nodes that are
+//! both not refreshed: fixed bodies, static colliders, sleeping or passive bodies, and
+//! triggers carried by them. Rapier knows what the user changed (its modified-body and
+//! modified-collider lists and per-object change flags), but none of it is public:
+//! `ColliderSet::take_modified` empties the list Rapier's own step needs, and it
+//! cannot be put back. So the layer notices such changes itself, each at a cost
+//! proportional to what changed or to the (few) triggers, never to all colliders:
+//! - the layer's own changes: a rule's members of every kind, a body made passive or
+//!   active, a sensor whose collision types the layer widened, are refreshed at the
+//!   next update;
+//! - a body whose number of colliders changed is refreshed by the full scan that the
+//!   changed collider count starts anyway (a fixed body losing its collider inside a
+//!   trigger);
+//! - a trigger that no refreshed body carries is read again when its sensor
+//!   collider's pose, enabled flag or shape changed (a fixed or passive carrier
+//!   moved, a parentless sensor moved): O(triggers) per update, a compare each;
+//! - the sensors of the refreshed bodies are always looked for, so a collider turned
+//!   into a sensor gets its trigger in the same step (O(their colliders));
+//! - what none of this sees (a fixed body or static collider moved, retyped or turned
+//!   into a sensor in place; a sleeping body changed without waking it) needs
+//!   [`Coherence::request_full_sync`], which refreshes every node at the next update:
+//!   O(nodes + pairs), on request only.
+//!
+//! Rejected: reading every trigger every step (a trigger over a settled pile would cost
+//! its pairs every step), and refreshing every node on every full scan (a scene that
+//! spawns a body per step would pay for all its pairs every step).
 //!
 //! # What a step exposes
 //! [`Coherence::touched_edges`] lists the edges refreshed in the step (their marks
@@ -219,8 +249,10 @@ impl Coherence {
     pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
         self.scan = policy;
     }
-    /// Asks for a full scan of bodies and colliders at the next update (after changing
-    /// a sleeping or fixed body in place, e.g. its type, which Rapier does not report).
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// refreshes every node (pairs and triggers read again): after changing a sleeping
+    /// or fixed body, or static geometry, in place (moving it, its type, a sensor
+    /// flag), which Rapier does not report. That update costs O(nodes + pairs).
     pub fn request_full_sync(&mut self) {
         self.force_full_sync = true;
     }

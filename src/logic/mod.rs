@@ -66,6 +66,14 @@ impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
     }
 }
 
+/// Whether a body's slot holds a body of another generation (the body was removed).
+fn slot_reused_body(bodies: &RigidBodySet, h: RigidBodyHandle) -> bool {
+    let (i, g) = h.into_raw_parts();
+    bodies
+        .get_unknown_gen(i)
+        .is_some_and(|(_, other)| other.into_raw_parts().1 != g)
+}
+
 /// The refusal of a passive dynamic multibody member.
 fn multibody_refusal(what: &'static str) -> crate::Error {
     crate::Error::Unsupported {
@@ -134,6 +142,11 @@ impl Logic {
                 self.wake_queue.push(h);
             }
         }
+    }
+
+    /// Forgets a body removed from the world (its node was removed by the analysis).
+    pub(crate) fn forget_body(&mut self, body: RigidBodyHandle) {
+        self.passive.remove(&body.into_raw_parts());
     }
 
     pub(crate) fn queue_passive(&mut self, body: RigidBodyHandle, node: NodeId, passive: bool) {
@@ -303,8 +316,7 @@ impl Logic {
         };
         for (h, passive) in std::mem::take(&mut self.passive_queue) {
             if !world.bodies.contains(h) {
-                self.passive.remove(&h.into_raw_parts());
-                continue;
+                continue; // removed (or another world): skipped
             }
             if passive && dynamic_member(world, h) {
                 // Nothing changes: the body stays as it is (active, or passive if it
@@ -328,7 +340,10 @@ impl Logic {
         let mut joints = std::mem::take(&mut self.scratch_joints);
         joints.clear();
         self.passive.retain(|_, &mut h| match world.bodies.get(h) {
-            None => false,
+            // Removed: forgotten once its slot holds another body (or when the analysis
+            // reports the node removed); a world without it (another world handed to
+            // the pre-step) loses nothing.
+            None => !slot_reused_body(world.bodies, h),
             Some(rb) if rb.is_enabled() => false, // enabled by the user meanwhile
             Some(_) if has_multibodies && dynamic_member(world, h) => {
                 undo.push(h);
@@ -369,7 +384,12 @@ impl Logic {
         let passive = &self.passive;
         self.held_joints.retain(|_, &mut j| {
             let Some(joint) = world.impulse_joints.get(j) else {
-                return false;
+                // As for passive bodies: forgotten once the slot holds another joint.
+                let (i, g) = j.into_raw_parts();
+                return world
+                    .impulse_joints
+                    .get_unknown_gen(i)
+                    .is_none_or(|(_, h)| h.into_raw_parts().1 == g);
             };
             let free = |h: RigidBodyHandle| {
                 world.bodies.get(h).is_some_and(|rb| rb.is_enabled())
