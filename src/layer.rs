@@ -112,9 +112,13 @@ impl ContactLayer {
     }
 
     /// Applies the queued logical changes to the world (hook flags of rule members,
-    /// passive bodies, trigger collision types). [`Self::step`] calls it; users who
-    /// step Rapier themselves call it before each step and pass [`Self::hooks`] to
-    /// Rapier. O(1) when nothing is queued.
+    /// passive bodies, trigger collision types, the speed-ups' fixations), after
+    /// checking them against the world as it is now: what Rapier would panic on is
+    /// refused or guarded (see [`Self::set_passive`] and [`Self::refusals`]).
+    /// [`Self::step`] calls it; users who step Rapier themselves call it before each
+    /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
+    /// is passive; O(passive bodies) while some are (their joints are checked when the
+    /// world has impulse joints, their multibody membership when it has multibodies).
     pub fn pre_step(&mut self, mut world: WorldMut) {
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
@@ -561,8 +565,8 @@ impl ContactLayer {
     /// # Errors
     /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
     /// - [`Error::Unsupported`] for `passive = true` on a dynamic multibody member (a
-    ///   `Link` node): Rapier 0.36 does not carry a disabled multibody member and panics
-    ///   in its next step. The body is left as it is.
+    ///   `Link` node at the last analysis): Rapier 0.36 does not carry a disabled
+    ///   multibody member and panics in its next step. The body is left as it is.
     ///
     /// The pre-step checks again what the world holds by then: a queued change for a
     /// body that became a dynamic multibody member meanwhile is refused, and a passive

@@ -10,6 +10,25 @@
 //! [`crate::ContactLayer::pre_step`]. Their effect on edges and events shows after
 //! that step's analysis.
 //!
+//! # Passive bodies and Rapier's own panics
+//! A passive body is a disabled Rapier body, and Rapier 0.36.1 panics in its step on
+//! two states around disabled bodies (reproduced with plain Rapier; see the `audit`
+//! module, "Rapier's own panics"): a disabled multibody member the solver needs, and
+//! an enabled impulse joint between a disabled body and a fixed or disabled one. The
+//! pre-step guards the bodies the layer made passive, checking the world as it is
+//! then (the user may have joined bodies since `set_passive`):
+//! - chosen: a dynamic multibody member is never made passive (`set_passive` refuses
+//!   a `Link` node; the pre-step refuses a queued change, and makes a passive body the
+//!   user joined to a multibody active again, listed in `refusals()`); rejected:
+//!   disabling the whole multibody (it would make bodies passive the user did not
+//!   name), and disabling non-root links only (Rapier then still moves them with the
+//!   multibody: they are not passive);
+//! - chosen: a passive body's joints are held `JointEnabled::Disabled` and enabled
+//!   again when both ends are active; rejected: Rapier's own `DisabledByAttachedBody`
+//!   (Rapier enables those joints whenever a body at either end is inserted or
+//!   enabled, whatever the other end), and refusing `set_passive` on jointed bodies (a
+//!   joint can be added later, and passive jointed bodies would be lost).
+//!
 //! # Pay for what you use
 //! A scene without rules gets no hook flag; without timers no timer work; the sensor
 //! collision types are widened only on sensor colliders (which never push bodies, so
