@@ -6,7 +6,8 @@
 //! lists every public entry point and what it does with each kind of bad input. Every
 //! row names its tests in `tests/bad_input_audit.rs`. The audit found 14 bugs
 //! (B1–B14, under [Findings](#findings)); all are fixed, and their `bug_*` tests run
-//! as regression tests.
+//! as regression tests. The states on which Rapier 0.36.1 itself panics, and what the
+//! layer does about each, are under [Rapier's own panics](#rapiers-own-panics).
 //!
 //! This module holds no code.
 //!
@@ -37,7 +38,7 @@
 //! | entry point | stale id / handle | foreign handle | non-finite value | out-of-range parameter | wrong time | test |
 //! |---|---|---|---|---|---|---|
 //! | [`ContactLayer::step`] | removed body: its node and spans end, `UnknownBody` afterwards. a fixed or sleeping body (or a static collider) removed *and another inserted* before the same step: the node whose Rapier slot was reused goes at once, any other within `nodes / coherence::VERIFY_PER_STEP` steps (round-robin check), at once after `request_full_sync()` (B1: fixed) | another world: resynchronised by handle (alias), valid after the step | NaN/∞ pose, rotation, velocity, mass, gravity, static-collider pose: Rapier quarantines, the node is kept, `validate()` holds. `dt` NaN or ∞: no time passes for the timers (B2, B4: fixed) | `dt` = 0: zero-length step. `dt` < 0: no time passes for the timers (B3: fixed). `dt` = 100 or ∞: pairs of a body Rapier puts to sleep in its first step are read (B5: fixed) | `&mut self`: nothing can overlap it | `step_with_non_finite_state_and_foreign_worlds`, `bug_step_remove_and_insert_leaves_ghost_node`, `bug_nan_dt_stops_timers_forever`, `bug_negative_dt_runs_timers_backwards`, `bug_step_infinite_dt_with_timer_hangs`, `bug_step_huge_dt_misses_pairs` |
-//! | [`ContactLayer::pre_step`] | queued changes of removed bodies skipped | a world without the bodies: skipped | — | — | twice: idempotent | `pre_step_with_a_foreign_world_and_twice` |
+//! | [`ContactLayer::pre_step`] | queued changes of removed bodies skipped | a world without the bodies: skipped; the passive bodies and the joints it holds disabled are kept (nothing lost) | — | — | twice: idempotent. Changes decided at the last analysis are checked again against the world as it is now (see [Rapier's own panics](#rapiers-own-panics)) | `pre_step_with_a_foreign_world_and_twice`, `rapier_panics_joints_of_passive_bodies_are_held_disabled`, `rapier_panics_a_deferred_fixation_is_checked_again_when_applied` |
 //! | [`ContactLayer::analyze`] | as `step` | a view mixing two worlds' parts: no panic, `validate_view` answers | view gravity NaN/∞: accepted (supports nothing); `dt` NaN, ∞, < 0: as `step` (B2–B4) | `dt` = 0: accepted | twice per Rapier step: counted as two steps (timers advance 2·`dt`); one call per step is the contract, a view cannot tell | `analyze_with_odd_views` |
 //! | [`ContactLayer::hooks`] | — | — | — | — | while a Rapier step borrows them, `&mut` calls do not compile; `&self` queries from a Rapier `EventHandler` see the last analysis, consistent | `wrong_time_queries_during_a_rapier_step_see_the_last_analysis`, compile-fail example below |
 //! | [`ContactLayer::set_speedups`], [`ContactLayer::speedups`] | — | — | NaN/∞ parameter: `Err(InvalidParameter)` naming it; the configuration in force is kept | negative; `sleepy_steps`, `iterations`, `tweak_iterations` = 0: `Err(InvalidParameter)`. 0 thresholds and `f32::MAX` accepted; no upper bound on iteration counts (Rapier has none) | any time between steps; `None` twice: no-op | `set_speedups_refuses_bad_parameters` |
@@ -49,7 +50,8 @@
 //! | [`ContactLayer::add_timer`] | — | — | NaN, ±∞: `Err(InvalidParameter)` | 0, negative: `Err(InvalidParameter)`; `f64::MAX`: never ticks. below `logic::MIN_TIMER_PERIOD` (1e-6 s): `Err(InvalidParameter)`; at most 10,000 ticks reported per step (B4: fixed) | any time | `add_timer_refuses_bad_periods`, `bug_tiny_timer_period_hangs_next_step` |
 //! | [`ContactLayer::remove_timer`], [`ContactLayer::timer_ticks`], [`ContactLayer::timer_period`] | `Err(StaleNode)` (twice too) | `Err(StaleNode)` | — | not a timer: `Err(WrongKind)` | any time | `timer_queries_with_stale_and_wrong_ids` |
 //! | [`ContactLayer::simulated_time`] | — | — | unchanged by a NaN `dt` (B2: fixed) | unchanged by `dt` ≤ 0 (B3: fixed) | — | `bug_nan_dt_stops_timers_forever`, `bug_negative_dt_runs_timers_backwards` |
-//! | [`ContactLayer::set_passive`] | removed and analysed: `Err(UnknownBody)`; removed from the world but not analysed yet: `Ok`, no effect | `Err(UnknownBody)`; alias | — | — | before the first step: `Err(UnknownBody)` ("not seen by the layer yet") | `set_passive_with_stale_foreign_and_removed_bodies`, `wrong_time_calls_before_the_first_step` |
+//! | [`ContactLayer::set_passive`] | removed and analysed: `Err(UnknownBody)`; removed from the world but not analysed yet: `Ok`, no effect | `Err(UnknownBody)`; alias | — | `true` on a multibody link (`Link` node): `Err(Unsupported)`, nothing changes (Rapier panics on a disabled multibody member); `false`: always accepted | before the first step: `Err(UnknownBody)` ("not seen by the layer yet"). joined to a multibody between the call and the pre-step: refused there, reported by `refusals()`; joined after being made passive: made active again, reported | `set_passive_with_stale_foreign_and_removed_bodies`, `wrong_time_calls_before_the_first_step`, `rapier_panics_set_passive_on_a_multibody_member_is_refused`, `rapier_panics_a_passive_body_joined_to_a_multibody_is_made_active_again` |
+//! | [`ContactLayer::refusals`] | — | — | — | — | empty on a fresh layer; lists what the last pre-step refused or undid, cleared by the next | `accessors_on_a_fresh_layer_and_error_messages`, `rapier_panics_set_passive_on_a_multibody_member_is_refused` |
 //! | [`ContactLayer::declare_composite`], [`ContactLayer::remove_composite`] | `Err(StaleNode)` (removing twice too); a member removed later: the composite stays valid and removable | `Err(StaleNode)`; alias | — | empty: `Err(InvalidParameter)`; fixed body or timer member, or removing what is not a declared composite: `Err(WrongKind)`; repeats: one edge | between steps | `composites_with_stale_wrong_and_removed_members` |
 //! | [`ContactLayer::node_of_body`], [`ContactLayer::kind_of`], [`ContactLayer::is_supported`], [`ContactLayer::insulates`] | `Err(UnknownBody)` / `Err(StaleNode)` / `Err(StaleNode)` / `false` | the same; alias | NaN gravity of the last analysed world: `is_supported` → `Ok(false)` | — | before the first step: `Err(UnknownBody)`; contact details off: `is_supported` → `Ok(false)` (documented: no normals) | `layer_node_queries_with_bad_ids`, `settings_at_any_time`, `wrong_time_calls_before_the_first_step` |
 //! | [`ContactLayer::node_of_collider`] | removed: `Err(UnknownCollider)` | other generation, past the end, `invalid()`: `Err(UnknownCollider)`; a world the layer never saw: its collider's parent is looked up (`Err(UnknownBody)` or alias) | — | parentless sensor: its trigger node (B8: fixed) | answers from the last analysis | `node_of_collider_with_bad_handles`, `bug_node_of_collider_parentless_sensor` |
@@ -236,7 +238,26 @@
 //!   step; with `dt` = ∞ or 100 it puts new bodies to sleep at once; non-finite body
 //!   or collider state is quarantined (reset and disabled). None of it panics.
 //! - Random sequences of impulse joints, body-type changes and removals make Rapier
-//!   0.36.1 panic (`dynamics/solver/interaction_groups.rs:153`) without the layer.
+//!   0.36.1 panic (`dynamics/solver/interaction_groups.rs:153`) without the layer:
+//!   see the next section for the states behind it.
+//!
+//! ## Rapier's own panics
+//!
+//! Rapier 0.36.1 panics in its step on a few world states that ordinary calls reach,
+//! with or without the layer (each was reproduced with plain Rapier and
+//! `RigidBody::set_enabled`). The layer must not be the one to reach them: where its
+//! own calls would (it disables passive bodies and fixates bodies by making them
+//! fixed), it refuses or guards, with a clear [`Error::Unsupported`] where a call is
+//! refused. Where only the user's own calls into Rapier reach them, the layer cannot
+//! step in, and plain Rapier panics the same way. Found by the operation fuzzing
+//! (`tests/fuzz_operations.rs`, whose `fixed_*` regression tests replay each case).
+//!
+//! | state Rapier panics on (where) | reached through the layer by | what the layer does | test |
+//! |---|---|---|---|
+//! | a disabled multibody member the solver needs (the root, or the first link under a fixed root) while other links are enabled: "Matrix slicing out of bounds" or "LU solve matrix dimension mismatch" (contact solver, `GenericRhs::apply_impulse`; Rapier does not propagate `set_enabled` to multibodies, a `FIXME` in its `user_changes.rs`) | `set_passive(true)` on a multibody member; a passive body the user joins to a multibody | `set_passive(true)` on a `Link` node: `Err(Unsupported)`. The pre-step refuses a queued change for a body that became a dynamic multibody member meanwhile, and makes a passive body the user joined to a multibody active again; both are listed by [`ContactLayer::refusals`] | `rapier_panics_set_passive_on_a_multibody_member_is_refused`, `rapier_panics_a_passive_body_joined_to_a_multibody_is_made_active_again` |
+//! | an enabled impulse joint between a disabled body and a fixed or disabled one: "entered unreachable code" (`interaction_groups.rs:153`). Rapier marks a body's joints `DisabledByAttachedBody` when it disables the body, but not a joint added later, and it enables every such joint of a body it inserts or enables, whatever the other end | a joint the user adds to a passive body (or a body inserted or enabled while jointed to one) | the pre-step holds every joint of a passive body disabled (`JointEnabled::Disabled`, which Rapier never changes) and enables it again once both its bodies are active; a joint the user disabled stays disabled | `rapier_panics_joints_of_passive_bodies_are_held_disabled` |
+//! | a multibody link other than the root that is not dynamic: "A rigid-body that is not at the root of a multibody must be dynamic" (`multibody.rs`) | fixation (speed-ups), decided at the analysis and applied at the next pre-step, of a body the user joined to a multibody meanwhile; a held (fixed) body the user joins as a link | the pre-step checks a fixation again when it applies it (dynamic, enabled, no multibody member), and releases a held body joined as a link before Rapier's step | `rapier_panics_a_deferred_fixation_is_checked_again_when_applied` |
+//! | the same states reached by the user's own calls: a body disabled with `RigidBody::set_enabled(false)` or quarantined by Rapier (non-finite state), then jointed or joined to a multibody; a multibody link made fixed or kinematic | — (not the layer's calls) | nothing: plain Rapier panics the same way. Disable bodies with `set_passive` instead, which guards them | documented; the fuzz harness avoids them |
 //!
 //! [`ContactLayer::step`]: crate::ContactLayer::step
 //! [`ContactLayer::pre_step`]: crate::ContactLayer::pre_step
@@ -258,6 +279,8 @@
 //! [`ContactLayer::timer_period`]: crate::ContactLayer::timer_period
 //! [`ContactLayer::simulated_time`]: crate::ContactLayer::simulated_time
 //! [`ContactLayer::set_passive`]: crate::ContactLayer::set_passive
+//! [`ContactLayer::refusals`]: crate::ContactLayer::refusals
+//! [`Error::Unsupported`]: crate::Error::Unsupported
 //! [`ContactLayer::declare_composite`]: crate::ContactLayer::declare_composite
 //! [`ContactLayer::remove_composite`]: crate::ContactLayer::remove_composite
 //! [`ContactLayer::node_of_body`]: crate::ContactLayer::node_of_body

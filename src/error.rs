@@ -56,6 +56,15 @@ pub enum Error {
     /// part of a snapshot, so restoring it needs the predicate given back
     /// (`ContactLayer::restore_with`).
     UnboundPredicate(NodeId),
+    /// The call is refused because Rapier 0.36 cannot carry it out: it would panic in
+    /// Rapier's next step (see the "Rapier's own panics" part of [`crate::audit`]).
+    /// Nothing was changed.
+    Unsupported {
+        /// The call or change refused, in words.
+        what: &'static str,
+        /// Why Rapier cannot carry it out.
+        reason: &'static str,
+    },
 }
 
 impl fmt::Display for Error {
@@ -88,6 +97,7 @@ impl fmt::Display for Error {
                 "rule {rule:?} is a predicate, which a snapshot cannot hold: restore with \
                  `restore_with` and give its predicate back"
             ),
+            Error::Unsupported { what, reason } => write!(f, "{what} is not supported: {reason}"),
         }
     }
 }

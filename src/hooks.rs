@@ -94,10 +94,20 @@ impl<'a> HooksView<'a> {
         &self.state.mods
     }
 
-    fn node_of(&self, body: Option<RigidBodyHandle>, collider: ColliderHandle) -> Option<NodeId> {
+    /// The node a collider stands for in a rule: a sensor's trigger (none before the
+    /// analysis made it: never its carrier body, whose rules do not reach the trigger
+    /// it carries), a static collider's own node, else its body's.
+    fn node_of(
+        &self,
+        ctx: &PairFilterContext,
+        body: Option<RigidBodyHandle>,
+        collider: ColliderHandle,
+    ) -> Option<NodeId> {
+        if ctx.colliders.get(collider).is_some_and(|c| c.is_sensor()) {
+            return self.graph.node_of_sensor(collider);
+        }
         self.graph
-            .node_of_sensor(collider)
-            .or_else(|| self.graph.node_of_static_collider(collider))
+            .node_of_static_collider(collider)
             .or_else(|| body.and_then(|b| self.graph.node_of_body(b)))
     }
 
@@ -107,8 +117,8 @@ impl<'a> HooksView<'a> {
             return false;
         }
         match (
-            self.node_of(ctx.rigid_body1, ctx.collider1),
-            self.node_of(ctx.rigid_body2, ctx.collider2),
+            self.node_of(ctx, ctx.rigid_body1, ctx.collider1),
+            self.node_of(ctx, ctx.rigid_body2, ctx.collider2),
         ) {
             (Some(a), Some(b)) => rules.ignores(a, b),
             _ => false,

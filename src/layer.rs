@@ -124,14 +124,22 @@ impl ContactLayer {
     }
 
     /// Applies the queued logical changes to the world (hook flags of rule members,
-    /// passive bodies, trigger collision types). [`Self::step`] calls it; users who
-    /// step Rapier themselves call it before each step and pass [`Self::hooks`] to
-    /// Rapier. O(1) when nothing is queued.
+    /// passive bodies, trigger collision types, the speed-ups' fixations), after
+    /// checking them against the world as it is now: what Rapier would panic on is
+    /// refused or guarded (see [`Self::set_passive`] and [`Self::refusals`]).
+    /// [`Self::step`] calls it; users who step Rapier themselves call it before each
+    /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
+    /// is passive; O(passive bodies) while some are (their joints are checked when the
+    /// world has impulse joints, their multibody membership when it has multibodies).
     pub fn pre_step(&mut self, mut world: WorldMut) {
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
-        self.logic
-            .pre_step(&self.graph, &mut world, colliders_changed);
+        self.logic.pre_step(
+            &self.graph,
+            &mut world,
+            colliders_changed,
+            self.coherence.created_nodes(),
+        );
         if let Some(mut m) = self.monitor_restore.take() {
             m.restore(&mut world);
         }
@@ -310,6 +318,11 @@ impl ContactLayer {
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen);
         let step = self.coherence.step();
+        for r in self.coherence.removed_nodes() {
+            if let NodeSource::Body(h) = r.source {
+                self.logic.forget_body(h);
+            }
+        }
 
         // Containers follow the joints; bodies whose structure changed are regrouped
         // (and their kind refreshed: multibody links are `Link`s).
@@ -704,7 +717,23 @@ impl ContactLayer {
     /// Makes a body passive (or active again) without deallocating it (paper §3.2): it
     /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
     /// flag is cleared in the pre-step, its edges end at the next analysis, and no
-    /// event names it while passive. O(1).
+    /// event names it while passive. Its impulse joints are disabled while it is
+    /// passive (`JointEnabled::Disabled`), joints added later included, and enabled
+    /// again in the pre-step once both their bodies are active: Rapier 0.36 panics on an
+    /// enabled joint between a disabled body and a fixed or disabled one, and its own
+    /// `DisabledByAttachedBody` marks are undone whenever the other body is inserted or
+    /// enabled. A joint the user disabled stays disabled. O(1).
+    ///
+    /// # Errors
+    /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
+    /// - [`Error::Unsupported`] for `passive = true` on a dynamic multibody member (a
+    ///   `Link` node at the last analysis): Rapier 0.36 does not carry a disabled
+    ///   multibody member and panics in its next step. The body is left as it is.
+    ///
+    /// The pre-step checks again what the world holds by then: a queued change for a
+    /// body that became a dynamic multibody member meanwhile is refused, and a passive
+    /// body that became one is made active again. Both are reported by
+    /// [`Self::refusals`] after that pre-step.
     ///
     /// # Example
     /// ```
@@ -727,8 +756,25 @@ impl ContactLayer {
     /// ```
     pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
         let node = self.graph.try_node_of_body(body)?;
+        if passive && self.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
+            return Err(Error::Unsupported {
+                what: "set_passive(true) on a multibody link",
+                reason: "Rapier 0.36 panics in its next step on a disabled multibody \
+                         root while its links are enabled, and does not disable a \
+                         multibody with its members",
+            });
+        }
         self.logic.queue_passive(body, node, passive);
         Ok(())
+    }
+
+    /// What the last pre-step refused or undid because Rapier 0.36 would panic on it,
+    /// each with the body and an [`Error::Unsupported`] saying why: a queued
+    /// [`Self::set_passive`] of a body that had become a dynamic multibody member, or a
+    /// passive body that the user joined to a multibody (made active again). Empty
+    /// almost always; cleared by every pre-step. O(1).
+    pub fn refusals(&self) -> &[(RigidBodyHandle, Error)] {
+        &self.logic.refusals
     }
 
     // ── Containers ─────────────────────────────────────────────────────
@@ -878,9 +924,12 @@ impl ContactLayer {
         self.coherence.set_contact_details(on);
     }
 
-    /// Asks for a full scan of bodies and colliders at the next update. Needed only
-    /// after changing a *sleeping or fixed* body in place in a way Rapier does not
-    /// wake it for (e.g. its type); adding and removing bodies is detected.
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// reads every node's pairs and every trigger again. Needed only after changing a
+    /// *sleeping, fixed or passive* body, or static geometry, in place in a way Rapier
+    /// does not wake it for (its type, moving a fixed body or a parentless collider, a
+    /// sensor flag); adding and removing bodies and colliders is detected, and so is a
+    /// moved trigger. That update costs O(nodes + pairs).
     pub fn request_full_sync(&mut self) {
         self.coherence.request_full_sync();
     }

@@ -484,6 +484,12 @@ impl ContactLayer {
         let mut state = snapshot.state.clone();
         check_state(&state).map_err(|e| Error::Invariant(format!("snapshot: {e}")))?;
         bind_predicates(&mut state.logic, bind)?;
+        let mut state = state;
+        // What only this process knows (the addresses of shared shapes) is taken from
+        // the world restored against.
+        state
+            .coherence
+            .rebind_trigger_shapes(&state.graph, view.colliders);
         Ok(ContactLayer::from_state(state))
     }
 }

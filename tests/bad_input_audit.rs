@@ -1206,6 +1206,7 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
     assert!(layer.speedups().is_none() && layer.grouping());
     assert!(layer.hooks().table().is_empty());
     assert!(layer.coherence().contact_details());
+    assert!(layer.refusals().is_empty());
     // Every error names what is wrong.
     let n = NodeId::from_raw_parts(3, 1);
     let e = EdgeId::from_raw_parts(4, 2);
@@ -1232,6 +1233,13 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
             "period",
         ),
         (Error::Invariant("x".into()), "invariant"),
+        (
+            Error::Unsupported {
+                what: "set_passive(true) on a multibody link",
+                reason: "Rapier panics",
+            },
+            "multibody link is not supported: Rapier panics",
+        ),
     ] {
         assert!(err.to_string().contains(needle), "{err}");
     }
@@ -2141,6 +2149,181 @@ fn bug_scenes_step_index_overflow_panics() {
     no_panic("run_plain(u64::MAX, 1)", || {
         scenes::ball_on_box().run_plain(u64::MAX, 1)
     });
+}
+
+// ── Rapier's own panics (the audit's last table) ───────────────────────────
+
+/// A floor, a chain root – link (a multibody) and a free ball overlapping the link,
+/// stepped once; a ball `spare` that is no multibody member.
+fn multibody_scene() -> (PhysicsWorld, ContactLayer, [RigidBodyHandle; 3]) {
+    let mut world = PhysicsWorld::new();
+    world.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+        ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+    );
+    let ball = |x: f32, y: f32| RigidBodyBuilder::dynamic().translation(Vector::new(x, y, 0.0));
+    let root = world.insert(ball(0.0, 1.0), ColliderBuilder::ball(0.25)).0;
+    let link = world.insert(ball(0.0, 0.5), ColliderBuilder::ball(0.25)).0;
+    let joint = RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0));
+    world.insert_multibody_joint(root, link, joint).unwrap();
+    world.insert(ball(0.0, 0.5), ColliderBuilder::ball(0.25));
+    let spare = world.insert(ball(2.0, 0.5), ColliderBuilder::ball(0.25)).0;
+    let mut layer = ContactLayer::new();
+    layer.step(&mut world);
+    (world, layer, [root, link, spare])
+}
+
+#[test]
+fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
+    let (mut world, mut layer, [root, link, spare]) = multibody_scene();
+    // At the call: a `Link` node (the root and the link) is refused, nothing changes.
+    for h in [root, link] {
+        assert!(matches!(
+            layer.set_passive(h, true),
+            Err(Error::Unsupported { .. })
+        ));
+    }
+    no_panic("steps after refused set_passive", || {
+        for _ in 0..3 {
+            layer.step(&mut world);
+        }
+    });
+    assert!(world.bodies[root].is_enabled() && world.bodies[link].is_enabled());
+    assert!(layer.refusals().is_empty());
+    // Wrong time: joined to the multibody between `set_passive` and the pre-step.
+    layer.set_passive(spare, true).unwrap();
+    let joint = RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0));
+    world.insert_multibody_joint(link, spare, joint).unwrap();
+    no_panic("step after a refused queued change", || {
+        layer.step(&mut world)
+    });
+    assert!(world.bodies[spare].is_enabled());
+    assert_eq!(layer.refusals().len(), 1);
+    assert_eq!(layer.refusals()[0].0, spare);
+    assert!(matches!(layer.refusals()[0].1, Error::Unsupported { .. }));
+    layer.validate(&world).unwrap();
+    no_panic("the next step", || layer.step(&mut world));
+    assert!(layer.refusals().is_empty(), "cleared by every pre-step");
+    // Making a member active is always accepted.
+    layer.set_passive(root, false).unwrap();
+    no_panic("set_passive(false) on a member", || layer.step(&mut world));
+    layer.validate(&world).unwrap();
+}
+
+#[test]
+fn rapier_panics_a_passive_body_joined_to_a_multibody_is_made_active_again() {
+    let (mut world, mut layer, [_, _, spare]) = multibody_scene();
+    layer.set_passive(spare, true).unwrap();
+    layer.step(&mut world);
+    assert!(!world.bodies[spare].is_enabled());
+    // The user makes the passive body the root of a new multibody whose link rests on
+    // the floor (a contact of the link: Rapier's solver panics on it).
+    let (other, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(2.0, 0.2, 0.0)),
+        ColliderBuilder::ball(0.25),
+    );
+    world
+        .insert_multibody_joint(spare, other, RevoluteJointBuilder::new(Vector::Z))
+        .unwrap();
+    no_panic("step with a passive multibody root", || {
+        for _ in 0..3 {
+            layer.step(&mut world);
+            layer.validate(&world).unwrap();
+        }
+    });
+    assert!(world.bodies[spare].is_enabled(), "made active again");
+}
+
+#[test]
+fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
+    let (mut world, ground, ball, mut layer) = stepped(3);
+    for x in [-2.0, 2.0] {
+        world.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(x, 1.0, 0.0)),
+            ColliderBuilder::ball(0.5),
+        );
+    }
+    layer.step(&mut world);
+    layer.set_passive(ball, true).unwrap();
+    layer.step(&mut world);
+    // Joints added by the user to the passive body: to the fixed ground, and to a new
+    // fixed body (Rapier enables the `DisabledByAttachedBody` joints of a body it
+    // inserts, whatever the other end).
+    let j1 = world.insert_impulse_joint(ground, ball, FixedJointBuilder::new());
+    let (post, _) = world.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(4.0, 1.0, 0.0)),
+        ColliderBuilder::cuboid(0.4, 0.4, 0.4),
+    );
+    let j2 = world.insert_impulse_joint(post, ball, FixedJointBuilder::new());
+    // A joint the user disabled himself.
+    let mut off: GenericJoint = FixedJointBuilder::new().into();
+    off.set_enabled(false);
+    let j3 = world.insert_impulse_joint(ground, ball, off);
+    no_panic("steps with joints to a passive body", || {
+        for _ in 0..3 {
+            layer.step(&mut world);
+            layer.validate(&world).unwrap();
+        }
+    });
+    let enabled = |w: &PhysicsWorld, j| w.impulse_joints.get(j).unwrap().data.is_enabled();
+    assert!(!enabled(&world, j1) && !enabled(&world, j2) && !enabled(&world, j3));
+    // Active again: the layer's joints come back, the user's stays disabled.
+    layer.set_passive(ball, false).unwrap();
+    no_panic("steps after set_passive(false)", || {
+        for _ in 0..3 {
+            layer.step(&mut world);
+            layer.validate(&world).unwrap();
+        }
+    });
+    assert!(enabled(&world, j1) && enabled(&world, j2) && !enabled(&world, j3));
+    // Another world handed to the pre-step loses nothing.
+    layer.set_passive(ball, true).unwrap();
+    layer.step(&mut world);
+    assert!(!enabled(&world, j1));
+    let mut other = PhysicsWorld::new();
+    no_panic("pre_step on another world", || {
+        layer.pre_step(WorldMut::from(&mut other))
+    });
+    layer.set_passive(ball, false).unwrap();
+    layer.step(&mut world);
+    assert!(enabled(&world, j1), "still held, enabled again");
+}
+
+#[test]
+fn rapier_panics_a_deferred_fixation_is_checked_again_when_applied() {
+    let mut world = PhysicsWorld::new();
+    world.insert(
+        RigidBodyBuilder::fixed(),
+        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
+    );
+    let ball = |x: f32| RigidBodyBuilder::dynamic().translation(Vector::new(x, 1.0, 0.0));
+    let root = world.insert(ball(-2.0), ColliderBuilder::ball(0.5)).0;
+    let link = world.insert(ball(2.0), ColliderBuilder::ball(0.5)).0;
+    let mut layer = ContactLayer::new();
+    layer
+        .set_speedups(Some(SpeedUps {
+            fixate: true,
+            ..SpeedUps::contact_graph()
+        }))
+        .unwrap();
+    for _ in 0..200 {
+        layer.step(&mut world);
+        if layer.speedups().unwrap().stats().fixations > 0 {
+            break;
+        }
+    }
+    assert!(layer.speedups().unwrap().stats().fixations > 0);
+    // Wrong time: between the decision and its application, the body becomes a link.
+    world
+        .insert_multibody_joint(root, link, RevoluteJointBuilder::new(Vector::Z))
+        .unwrap();
+    no_panic("steps after a deferred fixation of a new link", || {
+        for _ in 0..5 {
+            layer.step(&mut world);
+            layer.validate(&world).unwrap();
+        }
+    });
+    assert!(world.bodies[link].is_dynamic());
 }
 
 // ── Incidental (found while auditing; not bad input) ───────────────────────

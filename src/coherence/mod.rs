@@ -7,7 +7,9 @@
 //! paper's "relative transform unchanged → skip the narrow phase" test (contact
 //! recycling). So this pass runs *after* Rapier's step, reading the narrow phase:
 //! 1. node upkeep (`nodes.rs`): bodies awake now or at the last update are refreshed;
-//!    a full scan only when the body or collider count changed;
+//!    a full scan only when the body or collider count changed (it refreshes the
+//!    bodies whose own collider count changed) or on request (it refreshes every
+//!    node);
 //! 2. edge insertion and marks (`pairs.rs`, Figs. 3 and 5): each collider pair of a
 //!    refreshed body is aggregated into the physical edge of its two bodies, whose
 //!    proximity and touching states are shifted to `e_old` first;
@@ -17,6 +19,34 @@
 //!
 //! The cost is proportional to the refreshed bodies' pairs, never to all pairs: the
 //! pairs of sleeping bodies are frozen in Rapier and stay exact in the graph.
+//!
+//! # Overlaps whose two sides are never refreshed
+//! Refreshing only what moves misses a change of an overlap between two nodes that are
+//! both not refreshed: fixed bodies, static colliders, sleeping or passive bodies, and
+//! triggers carried by them. Rapier knows what the user changed (its modified-body and
+//! modified-collider lists and per-object change flags), but none of it is public:
+//! `ColliderSet::take_modified` empties the list Rapier's own step needs, and it
+//! cannot be put back. So the layer notices such changes itself, each at a cost
+//! proportional to what changed or to the (few) triggers, never to all colliders:
+//! - the layer's own changes: a rule's members of every kind, a body made passive or
+//!   active, a sensor whose collision types the layer widened, are refreshed at the
+//!   next update;
+//! - a body whose number of colliders changed is refreshed by the full scan that the
+//!   changed collider count starts anyway (a fixed body losing its collider inside a
+//!   trigger);
+//! - a trigger that no refreshed body carries is read again when its sensor
+//!   collider's pose, enabled flag or shape changed (a fixed or passive carrier
+//!   moved, a parentless sensor moved): O(triggers) per update, a compare each;
+//! - the sensors of the refreshed bodies are always looked for, so a collider turned
+//!   into a sensor gets its trigger in the same step (O(their colliders));
+//! - what none of this sees (a fixed body or static collider moved, retyped or turned
+//!   into a sensor in place; a sleeping body changed without waking it) needs
+//!   [`Coherence::request_full_sync`], which refreshes every node at the next update:
+//!   O(nodes + pairs), on request only.
+//!
+//! Rejected: reading every trigger every step (a trigger over a settled pile would cost
+//! its pairs every step), and refreshing every node on every full scan (a scene that
+//! spawns a body per step would pay for all its pairs every step).
 //!
 //! # What a step exposes
 //! [`Coherence::touched_edges`] lists the edges refreshed in the step (their marks
@@ -30,6 +60,8 @@ pub(crate) mod pairs;
 
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
+
+use std::collections::BTreeMap;
 
 use rapier3d::geometry::ContactPair;
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
@@ -96,6 +128,51 @@ pub struct Coherence {
     verify_collider_cursor: u32,
     /// Node kind changes in the last step.
     kind_changes: usize,
+    /// Every trigger read so far, with the state of its sensor collider at its last
+    /// read: a trigger that no refreshed body carries is read again when that state
+    /// changed (see [`TriggerState`]). In node order, for a deterministic walk.
+    trigger_states: BTreeMap<NodeId, TriggerState>,
+    /// Triggers to read this step besides those of refreshed bodies and new ones
+    /// (rule members, a requested full sync).
+    pending_triggers: Vec<NodeId>,
+}
+
+/// What a trigger's read depends on besides the bodies it meets: its sensor collider's
+/// pose, enabled flag and shape. A trigger carried by a body that is not refreshed (a
+/// fixed or passive carrier, or none) is read again when one of them changed; O(1) per
+/// trigger and step.
+#[derive(Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+struct TriggerState {
+    pose: [u32; 7],
+    enabled: bool,
+    /// The address of the shared shape (`set_shape` replaces it). Meaningless in
+    /// another process: not part of a snapshot (a restored trigger is read again once,
+    /// which changes nothing when nothing changed).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    shape: usize,
+}
+
+/// Without the shape's address, which differs from process to process.
+impl std::fmt::Debug for TriggerState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TriggerState")
+            .field("pose", &self.pose)
+            .field("enabled", &self.enabled)
+            .finish_non_exhaustive()
+    }
+}
+
+impl TriggerState {
+    fn of(c: &rapier3d::geometry::Collider) -> Self {
+        let p = c.position();
+        let (t, r) = (p.translation, p.rotation);
+        Self {
+            pose: [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits),
+            enabled: c.is_enabled(),
+            shape: std::sync::Arc::as_ptr(&c.shared_shape().0) as *const () as usize,
+        }
+    }
 }
 
 /// How the pairs of the refreshed bodies are found (both give the same graph; the
@@ -146,6 +223,23 @@ impl Coherence {
     pub fn touched_edges(&self) -> &[EdgeId] {
         &self.touched
     }
+    /// Takes the addresses of the triggers' shapes from `colliders` (after a restore:
+    /// an address means nothing in another process). O(triggers).
+    #[cfg(feature = "serde")]
+    pub(crate) fn rebind_trigger_shapes(
+        &mut self,
+        graph: &ContactGraph,
+        colliders: &rapier3d::prelude::ColliderSet,
+    ) {
+        for (n, st) in self.trigger_states.iter_mut() {
+            if let Some(NodeSource::Sensor(c)) = graph.node(*n).map(|x| x.source()) {
+                if let Some(co) = colliders.get(c) {
+                    st.shape = TriggerState::of(co).shape;
+                }
+            }
+        }
+    }
+
     /// Edges removed in the last step because one of their nodes left the world, with
     /// their final state (marks `Vanished` where they were on).
     pub fn removed_edges(&self) -> &[Edge] {
@@ -191,8 +285,10 @@ impl Coherence {
     pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
         self.scan = policy;
     }
-    /// Asks for a full scan of bodies and colliders at the next update (after changing
-    /// a sleeping or fixed body in place, e.g. its type, which Rapier does not report).
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// refreshes every node (pairs and triggers read again): after changing a sleeping
+    /// or fixed body, or static geometry, in place (moving it, its type, a sensor
+    /// flag), which Rapier does not report. That update costs O(nodes + pairs).
     pub fn request_full_sync(&mut self) {
         self.force_full_sync = true;
     }
@@ -315,11 +411,14 @@ impl Coherence {
         self.counters = WalkCounters::default();
 
         // 1. Node upkeep.
+        self.pending_triggers.clear();
+        let requested = self.force_full_sync;
         let counts_changed = self.known_bodies != Some(view.bodies.len())
             || self.known_colliders != view.colliders.len();
-        if counts_changed || self.force_full_sync {
+        let mut resized = Vec::new();
+        if counts_changed || requested {
             self.force_full_sync = false;
-            let gone = nodes::full_sync(graph, view, &mut self.created);
+            let gone = nodes::full_sync(graph, view, &mut self.created, &mut resized);
             for id in gone {
                 self.remove_node(graph, groups, id);
             }
@@ -344,39 +443,28 @@ impl Coherence {
             };
             self.mark_refreshed(graph, view, id, h, true);
         }
+        // Bodies that fell asleep, turned fixed or were disabled (awake at the last
+        // update), the nodes the logic layer asks for (rule members of any kind, bodies
+        // made passive or active), and bodies whose colliders were added or removed (a
+        // fixed body losing its collider inside a trigger: nobody else would notice).
         let prev = std::mem::take(&mut self.awake_prev);
-        for &id in prev.iter().chain(screen.force.iter()) {
-            let Some(node) = graph.node(id) else { continue };
-            if node.seen_step == step {
-                continue;
-            }
-            let NodeSource::Body(h) = node.source else {
-                continue;
-            };
-            if view.bodies.contains(h) {
-                // Fell asleep, turned fixed, was disabled, or the logic layer asks.
-                let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
-                self.mark_refreshed(graph, view, id, h, false);
-            } else {
-                self.remove_node(graph, groups, id);
-            }
+        for &id in prev.iter().chain(screen.force.iter()).chain(resized.iter()) {
+            self.refresh_node(graph, groups, view, id);
         }
         // Nodes created this step are refreshed once whatever their state: a body
         // Rapier put to sleep in its very first step (a huge dt), or new static
         // geometry, still has its pairs read.
         for i in 0..self.created.len() {
             let id = self.created[i];
-            match graph.node(id).map(|n| (n.source, n.seen_step)) {
-                Some((NodeSource::Body(h), seen)) if seen != step => {
-                    self.mark_refreshed(graph, view, id, h, false);
-                }
-                Some((NodeSource::StaticCollider(_), _)) => {
-                    if let Some(n) = graph.node_mut(id) {
-                        n.seen_step = step;
-                    }
-                    self.walk.push(id);
-                }
-                _ => {}
+            self.refresh_node(graph, groups, view, id);
+        }
+        // A requested full sync refreshes everything: the user changed a sleeping or
+        // fixed body (or static geometry) in place, which no Rapier list tells. O(nodes
+        // + pairs), on request only.
+        if requested {
+            let all: Vec<NodeId> = graph.nodes().map(|(id, _)| id).collect();
+            for id in all {
+                self.refresh_node(graph, groups, view, id);
             }
         }
         self.awake_prev = prev;
@@ -415,13 +503,15 @@ impl Coherence {
                 self.walk_pairs(graph, view, screen, me);
             }
         }
-        // Trigger volumes: the triggers carried by refreshed bodies and the new ones are
-        // read from their side; then the refreshed and new bodies' colliders meet the
-        // other triggers.
+        // Trigger volumes: the triggers carried by refreshed bodies, the new ones and
+        // those asked for are read from their side; then the triggers whose sensor
+        // collider changed (moved with a fixed or passive carrier, or parentless);
+        // then the refreshed and new bodies' colliders meet the other triggers. The
+        // refreshed bodies' colliders are always looked at, so that a collider turned
+        // into a sensor gets its trigger in the same step: O(their colliders).
         self.triggers.clear();
-        let has_triggers = graph.count_of_kind(NodeKind::Trigger) > 0;
         let mut sensors = Vec::new();
-        for &me in walk.iter().filter(|_| has_triggers) {
+        for &me in &walk {
             if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
                 if let Some(rb) = view.bodies.get(h) {
                     for &c in rb.colliders() {
@@ -443,10 +533,12 @@ impl Coherence {
                 .copied()
                 .filter(|&n| graph.node(n).is_some_and(|n| n.kind == NodeKind::Trigger)),
         );
+        to_read.append(&mut self.pending_triggers);
         for t in to_read {
             self.walk_trigger(graph, view, screen, t);
         }
-        if has_triggers {
+        self.read_changed_triggers(graph, view, screen);
+        if graph.count_of_kind(NodeKind::Trigger) > 0 {
             for &me in walk.iter().chain(created_now.iter()) {
                 self.walk_body_sensors(graph, view, screen, me);
             }
@@ -526,6 +618,42 @@ impl Coherence {
         // removed in the same step, so the list needs no sorting or filtering: its
         // order is Rapier's pair order, then the vanished edges, which is deterministic.
         debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
+    }
+
+    /// Refreshes one node whatever its state, if not done this step: a body's pairs are
+    /// read (it joins the walk), static geometry's too, a trigger is read from its side.
+    /// A node whose object is gone is removed. Containers and logical nodes: nothing.
+    fn refresh_node(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        id: NodeId,
+    ) {
+        let step = self.step;
+        let Some(node) = graph.node(id) else { return };
+        if node.seen_step == step {
+            return;
+        }
+        match node.source {
+            NodeSource::Body(h) if view.bodies.contains(h) => {
+                let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
+                self.mark_refreshed(graph, view, id, h, false);
+            }
+            NodeSource::StaticCollider(c) if nodes::is_static_collider_node(view, c) => {
+                if let Some(n) = graph.node_mut(id) {
+                    n.seen_step = step;
+                }
+                self.walk.push(id);
+            }
+            NodeSource::Sensor(c) if view.colliders.get(c).is_some_and(|c| c.is_sensor()) => {
+                self.pending_triggers.push(id);
+            }
+            NodeSource::Body(_) | NodeSource::StaticCollider(_) | NodeSource::Sensor(_) => {
+                self.remove_node(graph, groups, id);
+            }
+            NodeSource::Container(_) | NodeSource::Layer(_) => {}
+        }
     }
 
     fn mark_refreshed(
@@ -826,6 +954,9 @@ impl Coherence {
         }
         node.seen_step = step;
         self.triggers.push(t);
+        if let Some(c) = view.colliders.get(sensor) {
+            self.trigger_states.insert(t, TriggerState::of(c));
+        }
         for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs_with(sensor) {
             let oc = if c1 == sensor { c2 } else { c1 };
             if view.colliders.get(oc).is_none_or(|c| c.is_sensor()) {
@@ -835,6 +966,50 @@ impl Coherence {
             if intersecting {
                 self.feed_trigger(graph, view, screen, t, oc);
             }
+        }
+    }
+
+    /// Reads again the triggers not read this step whose sensor collider changed since
+    /// their last read (see [`TriggerState`]), and forgets removed triggers.
+    /// O(triggers).
+    fn read_changed_triggers(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+    ) {
+        if self.trigger_states.is_empty() {
+            return;
+        }
+        let step = self.step;
+        let mut stale = Vec::new();
+        let mut changed = Vec::new();
+        for (&t, state) in &self.trigger_states {
+            let Some(node) = graph.node(t) else {
+                stale.push(t);
+                continue;
+            };
+            let NodeSource::Sensor(c) = node.source else {
+                stale.push(t);
+                continue;
+            };
+            if node.seen_step == step {
+                continue;
+            }
+            // A removed sensor's node goes with the node upkeep.
+            if view
+                .colliders
+                .get(c)
+                .is_some_and(|c| TriggerState::of(c) != *state)
+            {
+                changed.push(t);
+            }
+        }
+        for t in stale {
+            self.trigger_states.remove(&t);
+        }
+        for t in changed {
+            self.walk_trigger(graph, view, screen, t);
         }
     }
 
@@ -859,10 +1034,15 @@ impl Coherence {
             }
             for (c1, c2, intersecting) in view.narrow_phase.intersection_pairs_with(ch) {
                 let sensor = if c1 == ch { c2 } else { c1 };
+                let known = self.created.len();
                 let Some(t) = nodes::ensure_trigger_node(graph, view, sensor, &mut self.created)
                 else {
                     continue;
                 };
+                if self.created.len() != known {
+                    // A trigger first seen here: read all of it from its side now.
+                    self.walk_trigger(graph, view, screen, t);
+                }
                 if graph.node(t).is_some_and(|n| n.seen_step == step) {
                     continue; // read from the trigger's side
                 }

@@ -59,6 +59,9 @@ pub(crate) fn ensure_body_node(
         }
         None => {
             let id = graph.add_node(kind, NodeSource::Body(handle));
+            if let Some(n) = graph.node_mut(id) {
+                n.collider_count = rb.colliders().len() as u32;
+            }
             created.push(id);
             Some(id)
         }
@@ -123,20 +126,31 @@ pub(crate) fn source_exists(view: &WorldView, source: NodeSource) -> bool {
 }
 
 /// Full scan: one node per body and per static collider, no node without its object.
-/// Returns the nodes whose object is gone (the caller removes them and reports).
-/// O(bodies + colliders + nodes).
+/// Returns the nodes whose object is gone (the caller removes them and reports), and
+/// adds to `resized` the body nodes whose number of colliders changed since the last
+/// scan (the caller refreshes them). O(bodies + colliders + nodes).
 pub(crate) fn full_sync(
     graph: &mut ContactGraph,
     view: &WorldView,
     created: &mut Vec<NodeId>,
+    resized: &mut Vec<NodeId>,
 ) -> Vec<NodeId> {
     let gone: Vec<NodeId> = graph
         .nodes()
         .filter(|(_, n)| !source_exists(view, n.source))
         .map(|(id, _)| id)
         .collect();
-    for (h, _) in view.bodies.iter() {
-        ensure_body_node(graph, view, h, created);
+    for (h, rb) in view.bodies.iter() {
+        let Some(id) = ensure_body_node(graph, view, h, created) else {
+            continue;
+        };
+        let count = rb.colliders().len() as u32;
+        if let Some(n) = graph.node_mut(id) {
+            if n.collider_count != count {
+                n.collider_count = count;
+                resized.push(id);
+            }
+        }
     }
     for (h, c) in view.colliders.iter() {
         if c.is_sensor() {

@@ -144,6 +144,9 @@ pub struct Node {
     /// the body was first seen in): events are sent only when it changes, so they
     /// alternate whatever happens in between (passive spells, fixation, retyping).
     pub(crate) reported_awake: Option<bool>,
+    /// For a body: its number of colliders at the last full scan (a change refreshes
+    /// the body: a fixed body losing or gaining a collider is otherwise never read).
+    pub(crate) collider_count: u32,
 }
 
 impl Node {
@@ -161,6 +164,7 @@ impl Node {
             born_step,
             carrier: None,
             reported_awake: None,
+            collider_count: 0,
         }
     }
 

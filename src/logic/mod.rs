@@ -10,6 +10,25 @@
 //! [`crate::ContactLayer::pre_step`]. Their effect on edges and events shows after
 //! that step's analysis.
 //!
+//! # Passive bodies and Rapier's own panics
+//! A passive body is a disabled Rapier body, and Rapier 0.36.1 panics in its step on
+//! two states around disabled bodies (reproduced with plain Rapier; see the `audit`
+//! module, "Rapier's own panics"): a disabled multibody member the solver needs, and
+//! an enabled impulse joint between a disabled body and a fixed or disabled one. The
+//! pre-step guards the bodies the layer made passive, checking the world as it is
+//! then (the user may have joined bodies since `set_passive`):
+//! - chosen: a dynamic multibody member is never made passive (`set_passive` refuses
+//!   a `Link` node; the pre-step refuses a queued change, and makes a passive body the
+//!   user joined to a multibody active again, listed in `refusals()`); rejected:
+//!   disabling the whole multibody (it would make bodies passive the user did not
+//!   name), and disabling non-root links only (Rapier then still moves them with the
+//!   multibody: they are not passive);
+//! - chosen: a passive body's joints are held `JointEnabled::Disabled` and enabled
+//!   again when both ends are active; rejected: Rapier's own `DisabledByAttachedBody`
+//!   (Rapier enables those joints whenever a body at either end is inserted or
+//!   enabled, whatever the other end), and refusing `set_passive` on jointed bodies (a
+//!   joint can be added later, and passive jointed bodies would be lost).
+//!
 //! # Pay for what you use
 //! A scene without rules gets no hook flag; without timers no timer work; the sensor
 //! collision types are widened only on sensor colliders (which never push bodies, so
@@ -21,9 +40,11 @@ pub(crate) mod timers;
 
 use std::collections::{BTreeMap, HashMap};
 
+use rapier3d::dynamics::JointEnabled;
 use rapier3d::prelude::{
-    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, IntegrationParameters,
-    IslandManager, PhysicsWorld, RigidBodyHandle, RigidBodySet,
+    ActiveCollisionTypes, ActiveHooks, ColliderHandle, ColliderSet, ImpulseJointHandle,
+    ImpulseJointSet, IntegrationParameters, IslandManager, MultibodyJointSet, PhysicsWorld,
+    RigidBodyHandle, RigidBodySet,
 };
 
 pub use containers::ContainerSource;
@@ -44,6 +65,11 @@ pub struct WorldMut<'a> {
     pub islands: &'a mut IslandManager,
     /// Integration parameters (solver iterations, caching: the speed-ups).
     pub integration_parameters: &'a mut IntegrationParameters,
+    /// Impulse joints (the joints of a passive body are disabled while it is passive).
+    pub impulse_joints: &'a mut ImpulseJointSet,
+    /// Multibody joints, read only (multibody members are neither made passive nor
+    /// fixated: Rapier 0.36 panics on both).
+    pub multibody_joints: &'a MultibodyJointSet,
 }
 
 impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
@@ -53,7 +79,27 @@ impl<'a> From<&'a mut PhysicsWorld> for WorldMut<'a> {
             colliders: &mut w.colliders,
             islands: &mut w.islands,
             integration_parameters: &mut w.integration_parameters,
+            impulse_joints: &mut w.impulse_joints,
+            multibody_joints: &w.multibody_joints,
         }
+    }
+}
+
+/// Whether a body's slot holds a body of another generation (the body was removed).
+fn slot_reused_body(bodies: &RigidBodySet, h: RigidBodyHandle) -> bool {
+    let (i, g) = h.into_raw_parts();
+    bodies
+        .get_unknown_gen(i)
+        .is_some_and(|(_, other)| other.into_raw_parts().1 != g)
+}
+
+/// The refusal of a passive dynamic multibody member.
+fn multibody_refusal(what: &'static str) -> crate::Error {
+    crate::Error::Unsupported {
+        what,
+        reason: "a dynamic multibody member cannot be passive: Rapier 0.36 panics in its \
+                 next step on a disabled multibody root while its links are enabled \
+                 (the body is left active)",
     }
 }
 
@@ -83,6 +129,17 @@ pub(crate) struct Logic {
     pub(crate) declared: BTreeMap<NodeId, Vec<NodeId>>,
     /// Passive changes to apply in the pre-step.
     passive_queue: Vec<(RigidBodyHandle, bool)>,
+    /// The bodies the layer holds passive (disabled in Rapier), by raw handle.
+    passive: BTreeMap<(u32, u32), RigidBodyHandle>,
+    /// What the last pre-step refused or undid (see [`Logic::pre_step`]). A report of
+    /// one pre-step, not state: not part of a snapshot.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) refusals: Vec<(RigidBodyHandle, crate::Error)>,
+    /// Impulse joints the layer disabled because an end is passive, by raw handle:
+    /// enabled again once both ends are enabled and not passive.
+    held_joints: BTreeMap<(u32, u32), ImpulseJointHandle>,
+    /// Scratch: joints of passive bodies to disable.
+    scratch_joints: Vec<ImpulseJointHandle>,
     /// Bodies to wake in the pre-step (members of changed rules).
     wake_queue: Vec<RigidBodyHandle>,
     /// Nodes the next analysis must refresh even if asleep.
@@ -111,6 +168,11 @@ impl Logic {
                 self.wake_queue.push(h);
             }
         }
+    }
+
+    /// Forgets a body removed from the world (its node was removed by the analysis).
+    pub(crate) fn forget_body(&mut self, body: RigidBodyHandle) {
+        self.passive.remove(&body.into_raw_parts());
     }
 
     pub(crate) fn queue_passive(&mut self, body: RigidBodyHandle, node: NodeId, passive: bool) {
@@ -154,13 +216,16 @@ impl Logic {
         out
     }
 
-    /// Applies the queued changes to the world. Cost: O(1) when nothing is queued, else
-    /// O(rule members + their colliders).
+    /// Applies the queued changes to the world. `new_nodes` are the nodes the last
+    /// analysis created (its new triggers are widened). Cost: O(1) when nothing is
+    /// queued, else O(rule members + their colliders), plus O(new nodes), plus
+    /// O(colliders) when their count changed.
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
         world: &mut WorldMut,
         colliders_changed: bool,
+        new_nodes: &[NodeId],
     ) {
         if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) {
             self.rules_dirty = false;
@@ -199,22 +264,178 @@ impl Logic {
                 }
             }
         }
-        for (h, passive) in std::mem::take(&mut self.passive_queue) {
-            if let Some(rb) = world.bodies.get_mut(h) {
-                rb.set_enabled(!passive);
-            }
+        self.refusals.clear();
+        if !self.passive_queue.is_empty()
+            || !self.passive.is_empty()
+            || !self.held_joints.is_empty()
+        {
+            self.apply_passive(graph, world);
         }
         // Sensors are widened before their first Rapier step: Rapier pairs colliders
         // that do not move only when they appear, so widening later would miss
-        // triggers on fixed bodies. Scanned only when the collider count changed.
+        // triggers on fixed bodies. Scanned only when the collider count changed; a
+        // collider turned into a sensor in place (no count change) is widened once the
+        // analysis has made its trigger node.
         if self.widen_sensors && colliders_changed {
             for (c, col) in world.colliders.iter_mut() {
                 if col.is_sensor() && !self.widened.contains_key(&c) {
                     self.widened.insert(c, col.active_collision_types());
                     col.set_active_collision_types(ActiveCollisionTypes::all());
+                    // Its intersections change in Rapier's step: the trigger (if it has
+                    // a node already) is read at the next analysis, even if nothing
+                    // that carries or meets it is refreshed.
+                    if let Some(t) = graph.node_of_sensor(c) {
+                        self.force.push(t);
+                    }
                 }
             }
         }
+        if self.widen_sensors {
+            for &t in new_nodes {
+                let Some(NodeSource::Sensor(c)) = graph.node(t).map(|n| n.source()) else {
+                    continue;
+                };
+                if self.widened.contains_key(&c) {
+                    continue;
+                }
+                if let Some(col) = world.colliders.get_mut(c).filter(|c| c.is_sensor()) {
+                    self.widened.insert(c, col.active_collision_types());
+                    if col.active_collision_types() != ActiveCollisionTypes::all() {
+                        col.set_active_collision_types(ActiveCollisionTypes::all());
+                        self.force.push(t);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Applies the queued passive changes, then guards the passive bodies against what
+    /// Rapier 0.36 panics on. Called by the pre-step when a change is queued, a body is
+    /// passive or a joint is held disabled. Cost: O(queued changes + passive bodies +
+    /// held joints), the joint part only when the world has impulse joints and the
+    /// multibody part only when it has multibodies; O(1) per passive body (plus its
+    /// joints).
+    ///
+    /// Why a guard and not only a check in `set_passive`: the user can change the world
+    /// between `set_passive` and the pre-step, or after it, with calls the layer does
+    /// not see (a joint added to a passive body). Rapier panics in its next step on:
+    /// - a disabled multibody member that the solver needs (the root, or the first link
+    ///   under a fixed root) while other links are enabled ("Matrix slicing out of
+    ///   bounds" in the contact solver: Rapier does not propagate `set_enabled` to
+    ///   multibodies, a `FIXME` in its `user_changes.rs`). Guard: a dynamic multibody
+    ///   member is never made passive, and a passive body that became one is made
+    ///   active again; both are reported in [`Logic::refusals`].
+    /// - an enabled impulse joint between a disabled body and a fixed or disabled one
+    ///   ("unreachable" in `interaction_groups.rs`). Rapier marks a disabled body's
+    ///   joints `DisabledByAttachedBody` when the body is disabled, but not a joint
+    ///   added later, and it enables every `DisabledByAttachedBody` joint of a body
+    ///   that is inserted or enabled, whatever the other end (a new fixed body jointed
+    ///   to a passive one panics so). Guard: each pre-step, the layer disables every
+    ///   joint of a passive body that the user did not disable (`Disabled`, which
+    ///   Rapier never changes) and remembers it; it enables it again once both its
+    ///   bodies are enabled and not passive. Nothing is lost; a joint the user disabled
+    ///   stays disabled.
+    fn apply_passive(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
+        let dynamic_member = |world: &WorldMut, h: RigidBodyHandle| {
+            world.multibody_joints.rigid_body_link(h).is_some()
+                && world.bodies.get(h).is_some_and(|rb| rb.is_dynamic())
+        };
+        for (h, passive) in std::mem::take(&mut self.passive_queue) {
+            if !world.bodies.contains(h) {
+                continue; // removed (or another world): skipped
+            }
+            if passive && dynamic_member(world, h) {
+                // Nothing changes: the body stays as it is (active, or passive if it
+                // was; a passive member is made active just below).
+                self.refusals
+                    .push((h, multibody_refusal("set_passive(true)")));
+                continue;
+            }
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_enabled(!passive);
+            }
+            if passive {
+                self.passive.insert(h.into_raw_parts(), h);
+            } else {
+                self.passive.remove(&h.into_raw_parts());
+            }
+        }
+        let has_multibodies = world.multibody_joints.multibodies().next().is_some();
+        let has_joints = !world.impulse_joints.is_empty();
+        let mut undo = Vec::new();
+        let mut joints = std::mem::take(&mut self.scratch_joints);
+        joints.clear();
+        self.passive.retain(|_, &mut h| match world.bodies.get(h) {
+            // Removed: forgotten once its slot holds another body (or when the analysis
+            // reports the node removed); a world without it (another world handed to
+            // the pre-step) loses nothing.
+            None => !slot_reused_body(world.bodies, h),
+            Some(rb) if rb.is_enabled() => false, // enabled by the user meanwhile
+            Some(_) if has_multibodies && dynamic_member(world, h) => {
+                undo.push(h);
+                false
+            }
+            Some(_) => {
+                if has_joints {
+                    for (_, _, j, joint) in world.impulse_joints.attached_joints(h) {
+                        if joint.data.enabled != JointEnabled::Disabled {
+                            joints.push(j);
+                        }
+                    }
+                }
+                true
+            }
+        });
+        for h in undo {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_enabled(true);
+            }
+            if let Some(n) = graph.node_of_body(h) {
+                self.force.push(n);
+            }
+            self.refusals
+                .push((h, multibody_refusal("a passive body joined to a multibody")));
+        }
+        joints.sort_by_key(|j| j.into_raw_parts());
+        joints.dedup();
+        for &j in &joints {
+            if let Some(joint) = world.impulse_joints.get_mut(j, false) {
+                joint.data.enabled = JointEnabled::Disabled;
+                self.held_joints.insert(j.into_raw_parts(), j);
+            }
+        }
+        // Held joints whose two bodies are enabled and not passive are enabled again;
+        // removed joints are forgotten.
+        joints.clear();
+        let passive = &self.passive;
+        self.held_joints.retain(|_, &mut j| {
+            let Some(joint) = world.impulse_joints.get(j) else {
+                // As for passive bodies: forgotten once the slot holds another joint.
+                let (i, g) = j.into_raw_parts();
+                return world
+                    .impulse_joints
+                    .get_unknown_gen(i)
+                    .is_none_or(|(_, h)| h.into_raw_parts().1 == g);
+            };
+            let free = |h: RigidBodyHandle| {
+                world.bodies.get(h).is_some_and(|rb| rb.is_enabled())
+                    && !passive.contains_key(&h.into_raw_parts())
+            };
+            if free(joint.body1()) && free(joint.body2()) {
+                joints.push(j);
+                false
+            } else {
+                true
+            }
+        });
+        for &j in &joints {
+            if let Some(joint) = world.impulse_joints.get_mut(j, false) {
+                if joint.data.enabled == JointEnabled::Disabled {
+                    joint.data.enabled = JointEnabled::Enabled;
+                }
+            }
+        }
+        self.scratch_joints = joints;
     }
 
     /// Whether any collider carries a flag set by the layer.

@@ -29,7 +29,12 @@
 //!   Rapier's islands and costs nothing while awake bodies rest on it (the paper's
 //!   "inverse mass and inertia tensor to zero"). It is released — type, linear and
 //!   angular velocity restored exactly — when a touching body that is not sleepy moves
-//!   faster than `release_speed`.
+//!   faster than `release_speed`. Multibody members are never fixated: Rapier asserts
+//!   that a multibody's links other than the root are dynamic. A fixation is decided
+//!   at the analysis and applied at the next pre-step, so the pre-step checks the body
+//!   again (still dynamic, enabled, in no multibody), and it releases a held body that
+//!   the user joined to a multibody as a link meanwhile (O(held bodies), only while
+//!   the world has a multibody).
 //!
 //! Rejected for fixation: locked axes with zeroed velocity (facts note: holds a body
 //! bit-identically and keeps its contacts). It keeps the body in the solver, so it
@@ -402,6 +407,18 @@ impl SpeedUpState {
                 }
             }
         }
+        // A held body is fixed in Rapier, and Rapier asserts that a multibody's links
+        // other than the root are dynamic: one the user joined to a multibody as a
+        // link since it was fixated is released now, before Rapier's step.
+        if !self.held.is_empty() && world.multibody_joints.multibodies().next().is_some() {
+            for held in self.held.values() {
+                let link = world.multibody_joints.rigid_body_link(held.handle);
+                if link.is_some_and(|l| l.id != 0) && !self.to_release.contains(&held.handle) {
+                    self.to_release.push(held.handle);
+                    self.stats.releases += 1;
+                }
+            }
+        }
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.held.remove(&key(h)) {
                 if let Some(rb) = world.bodies.get_mut(h) {
@@ -421,7 +438,14 @@ impl SpeedUpState {
             let Some(rb) = world.bodies.get_mut(h) else {
                 continue;
             };
-            if !rb.is_dynamic() {
+            // Checked again now: the fixation was decided at the last analysis, and the
+            // user may have changed the body since. A multibody member is never fixated
+            // (a link must stay dynamic: Rapier asserts it; `decide` skips `Link` nodes
+            // already), nor a disabled (passive) body.
+            if !rb.is_dynamic()
+                || !rb.is_enabled()
+                || world.multibody_joints.rigid_body_link(h).is_some()
+            {
                 continue;
             }
             let held = Held {
