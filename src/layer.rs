@@ -435,6 +435,7 @@ impl ContactLayer {
                 &self.graph,
                 &self.groups,
                 &view,
+                self.coherence.refreshed_nodes(),
                 &released,
                 &mut self.monitor_events,
                 want,

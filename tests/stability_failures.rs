@@ -22,7 +22,9 @@ mod common;
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 use rapier_contact_graph::measure::{deviation, Mode, RunSpec, Trajectory, Violations};
-use rapier_contact_graph::monitor::{Monitor, MonitorConfig, ViolationKind};
+use rapier_contact_graph::monitor::{
+    Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
+};
 use rapier_contact_graph::scenes::stability::{
     self, Expectation, Failure, Outcome, StabilityCase, Target,
 };
@@ -315,4 +317,80 @@ fn boxes_resting_on_fixated_boxes_are_not_hanging() {
     assert_eq!(spec.name, "CTR---F");
     let (on, _) = run(case, &spec, Some(&traj));
     assert_eq!(on.violations.hanging, 0, "{}", describe(&on));
+}
+
+/// Runs a case with the layer's monitor repairing (no outside monitor): the violations
+/// left after repair.
+fn run_repaired(case: &StabilityCase, spec: &RunSpec) -> Violations {
+    let mut scene = (case.build)();
+    let mut layer = ContactLayer::new();
+    match &spec.mode {
+        Mode::Layer(s) => layer.set_speedups(Some(s.clone())).unwrap(),
+        _ => panic!("only layer runs repair: {}", spec.name),
+    }
+    layer
+        .set_monitor(
+            MonitorMode::Repair,
+            MonitorConfig::default(),
+            RepairConfig::default(),
+        )
+        .unwrap();
+    layer.prime_monitor(&WorldView::from(&scene.world));
+    for step in 0..case.steps {
+        common::step_validated(&mut scene, &mut layer, step);
+    }
+    let t = layer.monitor().unwrap().monitor().totals();
+    Violations {
+        hanging: t.hanging_sleeper,
+        launch: t.launch,
+        penetration: t.deep_penetration,
+        escape: t.escape,
+    }
+}
+
+/// The scenes where an impact makes a contact deep within one step, which repair
+/// (acting between steps) does not always prevent: measured, see the README.
+const DEEP_IN_ONE_STEP: [&str; 3] = ["fixated_pile", "seesaw", "removed_support"];
+
+/// With the monitor repairing, every failure each scene was built for is gone under its
+/// target switch and under every switch at once: no hanging sleeper, launch or escape
+/// anywhere, and no deep penetration except in the scenes where an impact goes deep
+/// within one step (and there never more than without repair).
+#[test]
+fn repair_leaves_no_hanging_sleeper_or_launch_in_any_scene() {
+    for case in stability::suite() {
+        let mut specs: Vec<RunSpec> = case
+            .built_against
+            .iter()
+            .filter(|&&t| t != Target::StockSleep)
+            .map(|&t| case.target_spec(t))
+            .collect();
+        specs.push(RunSpec::combination(127));
+        for spec in specs {
+            let repaired = run_repaired(case, &spec);
+            assert_eq!(
+                (repaired.hanging, repaired.launch, repaired.escape),
+                (0, 0, 0),
+                "{} under {} with repair: {repaired:?}",
+                case.name,
+                spec.name
+            );
+            if DEEP_IN_ONE_STEP.contains(&case.name) {
+                let (plain, _) = run(case, &spec, None);
+                assert!(
+                    repaired.penetration <= plain.violations.penetration,
+                    "{} under {}: repair made it worse: {repaired:?} vs {:?}",
+                    case.name,
+                    spec.name,
+                    plain.violations
+                );
+            } else {
+                assert_eq!(
+                    repaired.penetration, 0,
+                    "{} under {} with repair",
+                    case.name, spec.name
+                );
+            }
+        }
+    }
 }

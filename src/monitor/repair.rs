@@ -101,6 +101,9 @@ pub struct RepairConfig {
     /// a contact is deeper than this fraction of the deep-penetration limit. Default
     /// 0.5. In `(0, 1]`.
     pub penetration_warning: Real,
+    /// A body that would travel farther than this in one step (metres) is fast: it
+    /// gets Rapier's soft-CCD prediction (twice its travel) while it is. Default 0.02.
+    pub fast_travel: Real,
 }
 
 impl Default for RepairConfig {
@@ -109,6 +112,7 @@ impl Default for RepairConfig {
             corrective_cap: 0.5,
             cap_steps: 10,
             penetration_warning: 0.5,
+            fast_travel: 0.02,
         }
     }
 }
@@ -175,6 +179,10 @@ pub struct LayerMonitor {
     saved_cap: Option<Real>,
     /// Whether the speed-ups' thinning is suspended now (restore when it ends).
     thinning_off: bool,
+    /// Fast bodies of the last analysis with the soft-CCD prediction they get.
+    fast_now: Vec<(RigidBodyHandle, Real)>,
+    /// Bodies given a soft-CCD prediction, with their own value before.
+    predicted: BTreeMap<(u32, u32), (RigidBodyHandle, Real)>,
     totals: RepairCounts,
     /// The step of the last analysis.
     step: u64,
@@ -197,6 +205,8 @@ impl LayerMonitor {
             thick_until: 0,
             saved_cap: None,
             thinning_off: false,
+            fast_now: Vec::new(),
+            predicted: BTreeMap::new(),
             totals: RepairCounts::default(),
             step: 0,
         })
@@ -247,11 +257,28 @@ impl LayerMonitor {
         graph: &ContactGraph,
         groups: &Groups,
         view: &crate::WorldView,
+        refreshed: &[NodeId],
         released_by_speedups: &[RigidBodyHandle],
         events: &mut Vec<Event>,
         want_events: bool,
     ) {
         self.step = step;
+        // Fast bodies get a soft-CCD prediction of twice their next step's travel, so
+        // that an impact within one step is met by speculative contacts rather than
+        // found deep inside its target a step later.
+        self.fast_now.clear();
+        if self.mode == MonitorMode::Repair {
+            for &n in refreshed {
+                let Some(h) = graph.body_of(n) else { continue };
+                let Some(rb) = view.bodies.get(h).filter(|rb| rb.is_dynamic()) else {
+                    continue;
+                };
+                let travel = rb.linvel().length() * view.dt;
+                if travel.is_finite() && travel > self.repair.fast_travel {
+                    self.fast_now.push((h, 2.0 * travel));
+                }
+            }
+        }
         let found: &[Violation] = self.monitor.last();
         if want_events {
             for v in found {
@@ -371,6 +398,32 @@ impl LayerMonitor {
                 }
             }
         }
+        // Soft-CCD predictions: set for the fast bodies, given back once slow again.
+        let fast = std::mem::take(&mut self.fast_now);
+        let keep: Vec<(u32, u32)> = fast.iter().map(|(h, _)| h.into_raw_parts()).collect();
+        let done: Vec<(u32, u32)> = self
+            .predicted
+            .keys()
+            .copied()
+            .filter(|k| !keep.contains(k))
+            .collect();
+        for k in done {
+            if let Some((h, own)) = self.predicted.remove(&k) {
+                if let Some(rb) = world.bodies.get_mut(h) {
+                    rb.set_soft_ccd_prediction(own);
+                }
+            }
+        }
+        for (h, prediction) in fast {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                let own = self
+                    .predicted
+                    .entry(h.into_raw_parts())
+                    .or_insert((h, rb.soft_ccd_prediction()))
+                    .1;
+                rb.set_soft_ccd_prediction(own.max(prediction));
+            }
+        }
         // The capped correction while any released or woken body is fresh.
         self.fresh.retain(|_, until| *until > step);
         let params = &mut *world.integration_parameters;
@@ -388,6 +441,11 @@ impl LayerMonitor {
     /// Undoes what repair mode changed in the world's parameters (when the mode goes
     /// off or the monitor is removed).
     pub(crate) fn restore(&mut self, world: &mut WorldMut) {
+        for (_, (h, own)) in std::mem::take(&mut self.predicted) {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                rb.set_soft_ccd_prediction(own);
+            }
+        }
         if let Some(saved) = self.saved_cap.take() {
             world
                 .integration_parameters

@@ -318,14 +318,20 @@ impl SpeedUpState {
         let c = self.config.clone();
         let dt = world.integration_parameters.dt;
         let params = &mut *world.integration_parameters;
+        // The monitor's repair of a contact going deep: the solver at full strength
+        // for a while (no tweak, no reduce, warm start and recycling on, twice the
+        // iterations).
         let thin = !self.suspend_thinning;
-        params.num_solver_iterations = if c.tweak && thin {
+        params.num_solver_iterations = if !thin {
+            2 * c.iterations
+        } else if c.tweak {
             c.tweak_iterations
         } else {
             c.iterations
         };
-        params.contact_recycling = c.cache;
-        params.warmstart_coefficient = if c.cache { 1.0 } else { 0.0 };
+        let cache = c.cache || !thin;
+        params.contact_recycling = cache;
+        params.warmstart_coefficient = if cache { 1.0 } else { 0.0 };
         mods.reduce_depth = (c.reduce && thin).then_some(c.reduce_depth);
         mods.zero = c.zero;
 
