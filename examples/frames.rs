@@ -1,11 +1,11 @@
 //! PNG frames of a scene coloured as the paper's Fig. 17: purple sleepy, red moving,
 //! blue absolute rest, green fixed — and amber for bodies in a plausibility violation.
 //!
-//! The scene is a hanging sleeper: a sphere resting on another sphere that slides away
-//! from under it. With the speed-ups on (sleepy + fixate), the upper sphere turns
-//! sleepy, then fixated (held immovable: green), and stays in the air when its support
-//! leaves — the failure of Fig. 17. Beside it, a small stack of boxes settles and is
-//! fixated, and a ball is dropped on it later.
+//! The scene is the stability suite's hanging sleeper
+//! (`scenes::stability::hanging_sleeper`): a sphere resting on another sphere that a
+//! striker knocks away from under it. With the speed-ups on (sleepy + fixate), the
+//! upper sphere turns sleepy, then fixated (held immovable: green), and stays in the
+//! air when its support leaves — the failure of Fig. 17.
 //!
 //! Bodies are amber when the layer's plausibility monitor reports them (its last
 //! violations and the held bodies it is timing as unsupported): the hanging sphere
@@ -28,21 +28,12 @@ use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::report::frames::{
     violating_bodies, Camera, Classifier, Renderer, Shade, View,
 };
-use rapier_contact_graph::scenes::{self, Scene};
+use rapier_contact_graph::scenes;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldView};
 
 const USAGE: &str =
     "usage: frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]";
-
-/// Radius of the hanging-sleeper spheres.
-const R: Real = 0.5;
-/// Marks the sphere that slides away (`user_data`), for the script.
-const SLIDER: u128 = 1;
-/// The step at which the lower sphere is sent sliding away.
-const SLIDE_AT: u64 = 60;
-/// The step at which the ball is dropped on the stack.
-const DROP_AT: u64 = 120;
 
 struct Args {
     out: PathBuf,
@@ -57,7 +48,7 @@ fn parse_args() -> Result<Args, String> {
     let mut a = Args {
         out: PathBuf::from("target/frames"),
         every: 10,
-        steps: 240,
+        steps: 400,
         view: View::SIDE,
         size: (800, 480),
         repair: false,
@@ -97,68 +88,6 @@ fn parse_args() -> Result<Args, String> {
     Ok(a)
 }
 
-/// The hanging sleeper, built here until the shared stability scene exists.
-///
-/// The lower sphere is frictionless and spins about the vertical: the spin keeps its
-/// kinetic energy above the sleepy threshold, so it is never fixated, and drags
-/// nothing. The upper sphere therefore turns sleepy and is fixated on top of it. At
-/// `SLIDE_AT` the script sends the lower sphere sliding away at 0.4 m/s, below the
-/// speed that releases a fixated body it touches (0.5 m/s), and the upper sphere is
-/// left hanging.
-fn hanging_sleeper() -> Scene {
-    let mut world = PhysicsWorld::new();
-    world.gravity = Vector::new(0.0, scenes::GRAVITY_Y, 0.0);
-    world.integration_parameters.dt = scenes::DT;
-    let (ground, _) = world.insert(
-        RigidBodyBuilder::fixed().translation(Vector::new(0.5, -0.25, 0.0)),
-        ColliderBuilder::cuboid(3.5, 0.25, 1.0).friction(1.0),
-    );
-    let (lower, _) = world.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(-1.5, R, 0.0))
-            .angvel(Vector::new(0.0, 6.0, 0.0))
-            .user_data(SLIDER),
-        ColliderBuilder::ball(R)
-            .friction(0.0)
-            .friction_combine_rule(CoefficientCombineRule::Min),
-    );
-    let (upper, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(-1.5, 3.0 * R + 0.01, 0.0)),
-        ColliderBuilder::ball(R).friction(1.0),
-    );
-    // A small stack of boxes that settles and is fixated, and a ball dropped on it.
-    let mut bodies = vec![("ground", ground), ("lower", lower), ("upper", upper)];
-    for (i, name) in ["box0", "box1", "box2"].into_iter().enumerate() {
-        let (h, _) = world.insert(
-            RigidBodyBuilder::dynamic().translation(Vector::new(2.0, 0.3 + i as Real * 0.61, 0.0)),
-            ColliderBuilder::cuboid(0.3, 0.3, 0.3).friction(1.0),
-        );
-        bodies.push((name, h));
-    }
-
-    fn script(world: &mut PhysicsWorld, step: u64) {
-        if step == SLIDE_AT {
-            for (_, rb) in world.bodies.iter_mut() {
-                if rb.user_data == SLIDER {
-                    rb.set_linvel(Vector::new(0.4, 0.0, 0.0), true);
-                }
-            }
-        }
-        if step == DROP_AT {
-            world.insert(
-                RigidBodyBuilder::dynamic().translation(Vector::new(2.1, 3.2, 0.0)),
-                ColliderBuilder::ball(0.25),
-            );
-        }
-    }
-    Scene {
-        name: "hanging sleeper",
-        world,
-        bodies,
-        script: Some(script),
-    }
-}
-
 fn main() -> std::io::Result<()> {
     let args = match parse_args() {
         Ok(a) => a,
@@ -172,8 +101,8 @@ fn main() -> std::io::Result<()> {
     };
     std::fs::create_dir_all(&args.out)?;
 
-    // The scene: one line to switch.
-    let mut scene = hanging_sleeper();
+    // The scene: the shared stability scene.
+    let mut scene = scenes::stability::hanging_sleeper::hanging_sleeper();
 
     let speedups = SpeedUps {
         fixate: true,
