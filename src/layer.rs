@@ -397,6 +397,9 @@ impl ContactLayer {
                 &view,
                 &self.groups,
                 self.coherence.refreshed_nodes(),
+                self.coherence.touched_edges(),
+                !self.coherence.removed_nodes().is_empty(),
+                step,
             );
             if s.is_detached() && s.is_idle() {
                 self.speedups = None;

@@ -86,6 +86,14 @@ struct Supporter {
 /// body up.
 const MIN_SUPPORT_COS: f32 = 0.1;
 
+/// A pose as bits, for ordering (`None` first).
+fn pose_bits(p: Option<Pose>) -> Option<[u32; 7]> {
+    p.map(|p| {
+        let (t, r) = (p.translation, p.rotation);
+        [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits)
+    })
+}
+
 /// The pose of a static supporter: its body's, or its collider's if it has no body.
 fn static_pose(graph: &ContactGraph, view: &WorldView, n: NodeId) -> Option<Pose> {
     match graph.node(n)?.source() {
@@ -137,6 +145,16 @@ pub struct SpeedUpState {
     held: BTreeMap<(u32, u32), Held>,
     /// Held bodies whose remembered support is gone (evaluated after each decision).
     unsupported: std::collections::BTreeSet<(u32, u32)>,
+    /// The support memory must be evaluated again in full: bodies were released or
+    /// removed.
+    support_dirty: bool,
+    /// Bodies held since the last evaluation (judged alone when nothing else changed).
+    newly_held: Vec<(u32, u32)>,
+    /// "Up" at the last evaluation.
+    support_up: Vector,
+    /// The distinct static (with their pose then) and scripted supporters of the held
+    /// bodies at the last evaluation: a change of any of them re-evaluates.
+    support_watch: Vec<(NodeId, Option<Pose>)>,
     /// Tweak and reduce stand down (the monitor's repair of a deep penetration).
     pub(crate) suspend_thinning: bool,
     /// Colliders flagged for `modify_solver_contacts`, with their former flags.
@@ -182,6 +200,10 @@ impl SpeedUpState {
             to_release: Vec::new(),
             held: BTreeMap::new(),
             unsupported: Default::default(),
+            support_dirty: true,
+            newly_held: Vec::new(),
+            support_up: Vector::ZERO,
+            support_watch: Vec::new(),
             suspend_thinning: false,
             flagged: BTreeMap::new(),
             zero_flags: Vec::new(),
@@ -427,6 +449,7 @@ impl SpeedUpState {
         }
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.held.remove(&key(h)) {
+                self.support_dirty = true;
                 if let Some(rb) = world.bodies.get_mut(h) {
                     rb.set_body_type(RigidBodyType::Dynamic, true);
                     rb.set_linvel(held.linvel, true);
@@ -462,6 +485,7 @@ impl SpeedUpState {
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
             self.held.insert(key(h), held);
+            self.newly_held.push(key(h));
         }
         // Bodies removed while held are forgotten.
         let gone: Vec<(u32, u32)> = self
@@ -472,6 +496,7 @@ impl SpeedUpState {
             .collect();
         for k in gone {
             self.held.remove(&k);
+            self.support_dirty = true;
         }
         self.stats.fixated = self.held.len();
     }
@@ -591,6 +616,9 @@ impl SpeedUpState {
         view: &WorldView,
         groups: &crate::Groups,
         refreshed: &[NodeId],
+        touched: &[crate::graph::EdgeId],
+        nodes_removed: bool,
+        step: u64,
     ) {
         if self.detached {
             return;
@@ -695,8 +723,145 @@ impl SpeedUpState {
                     self.stats.fixations += 1;
                 }
             }
-            self.evaluate_support(graph, view, up);
+            if self.support_changed(graph, view, up, touched, nodes_removed, step) {
+                self.evaluate_support(graph, view, up);
+            } else if !self.newly_held.is_empty() && !self.judge_newly_held(graph, view) {
+                self.evaluate_support(graph, view, up);
+            }
+            self.newly_held.clear();
         }
+    }
+
+    /// Judges the bodies held since the last evaluation alone, when nothing else
+    /// changed: each is supported by a base of its own or by a remembered held
+    /// supporter that is supported. Returns false (a full evaluation is needed) when
+    /// one of them is not supported, since what rested on it may have lost its support
+    /// too. O(new bodies × their supporters).
+    fn judge_newly_held(&mut self, graph: &ContactGraph, view: &WorldView) -> bool {
+        let up = self.support_up;
+        let new = std::mem::take(&mut self.newly_held);
+        let mut all = true;
+        for &k in &new {
+            let Some(held) = self.held.get(&k) else {
+                continue;
+            };
+            let ok = graph
+                .node_of_body(held.handle)
+                .is_some_and(|n| graph.supports_of(n, up, MIN_SUPPORT_COS).next().is_some())
+                || held.supports.iter().any(|s| {
+                    let Some(node) = graph.node(s.node) else {
+                        return false;
+                    };
+                    match node.body().filter(|&mh| self.held.contains_key(&key(mh))) {
+                        Some(mh) => !new.contains(&key(mh)) && !self.unsupported.contains(&key(mh)),
+                        None => self.static_support_holds(graph, view, node, s),
+                    }
+                });
+            if !ok {
+                all = false;
+                break;
+            }
+        }
+        if all {
+            for k in &new {
+                self.support_watch_add(graph, k);
+            }
+            self.support_watch_tidy();
+        }
+        self.newly_held = new;
+        all
+    }
+
+    /// Adds the static and scripted supporters of a held body to the watch list (held
+    /// supporters are not watched: their release marks the memory dirty). The caller
+    /// sorts and dedups the list.
+    fn support_watch_add(&mut self, graph: &ContactGraph, k: &(u32, u32)) {
+        let Some(held) = self.held.get(k) else { return };
+        for s in &held.supports {
+            let Some(node) = graph.node(s.node) else {
+                continue;
+            };
+            if node.body().is_some_and(|h| self.held.contains_key(&key(h))) {
+                continue;
+            }
+            let watched = match node.kind() {
+                NodeKind::Fixed => s.pose.is_some(),
+                NodeKind::Scripted => true,
+                _ => false,
+            };
+            if watched {
+                self.support_watch.push((s.node, s.pose));
+            }
+        }
+    }
+
+    fn support_watch_tidy(&mut self) {
+        self.support_watch.sort_unstable_by(|a, b| {
+            a.0.cmp(&b.0)
+                .then_with(|| pose_bits(a.1).cmp(&pose_bits(b.1)))
+        });
+        self.support_watch.dedup();
+    }
+
+    /// Whether a supporter that is not a held body still supports: static geometry
+    /// where it was, a scripted body not moving. (A simulated supporter supports only
+    /// through a touching contact now.)
+    fn static_support_holds(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        node: &crate::graph::Node,
+        s: &Supporter,
+    ) -> bool {
+        match node.kind() {
+            NodeKind::Fixed => s.pose.is_some() && static_pose(graph, view, s.node) == s.pose,
+            NodeKind::Scripted => node
+                .body()
+                .and_then(|mh| view.bodies.get(mh))
+                .is_some_and(|rb| rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO),
+            _ => false,
+        }
+    }
+
+    /// Whether anything the support memory depends on changed since its last
+    /// evaluation: the held set, "up", a node removed, a touching contact of a held
+    /// body begun or ended (edges dropped when a body turns fixed count as removed), a static supporter moved, a scripted supporter moving.
+    /// O(touched edges + distinct static and scripted supporters).
+    fn support_changed(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        up: Vector,
+        touched: &[crate::graph::EdgeId],
+        nodes_removed: bool,
+        step: u64,
+    ) -> bool {
+        if self.support_dirty || nodes_removed || up != self.support_up {
+            return true;
+        }
+        let held_node = |n: NodeId| {
+            graph
+                .body_of(n)
+                .is_some_and(|h| self.held.contains_key(&key(h)))
+        };
+        let step_contacts = touched.iter().any(|&e| {
+            graph.edge(e).is_some_and(|e| {
+                e.kind() == EdgeKind::Physical
+                    && matches!(
+                        e.touching_mark(step),
+                        Some(crate::graph::Transition::New | crate::graph::Transition::Vanished)
+                    )
+                    && (held_node(e.a()) || held_node(e.b()))
+            })
+        });
+        step_contacts
+            || self.support_watch.iter().any(|&(n, pose)| match pose {
+                Some(p) => static_pose(graph, view, n) != Some(p),
+                None => graph
+                    .body_of(n)
+                    .and_then(|h| view.bodies.get(h))
+                    .is_none_or(|rb| rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO),
+            })
     }
 
     /// Whether a body held by fixation is still supported against gravity: `None` for
@@ -744,57 +909,62 @@ impl SpeedUpState {
     /// resting on each other supports nothing by itself). O(held bodies + their
     /// remembered supporters).
     fn evaluate_support(&mut self, graph: &ContactGraph, view: &WorldView, up: Vector) {
+        self.support_dirty = false;
+        self.support_up = up;
+        self.support_watch.clear();
+        let keys: Vec<(u32, u32)> = self.held.keys().copied().collect();
+        for k in &keys {
+            self.support_watch_add(graph, k);
+        }
+        self.support_watch_tidy();
         self.unsupported.clear();
-        if !(up.is_finite() && up != Vector::ZERO) || self.held.is_empty() {
+        if !(up.is_finite() && up != Vector::ZERO) || keys.is_empty() {
             return;
         }
-        let mut supported: std::collections::BTreeSet<(u32, u32)> = Default::default();
-        let mut dependents: BTreeMap<(u32, u32), Vec<(u32, u32)>> = BTreeMap::new();
-        let mut queue: Vec<(u32, u32)> = Vec::new();
-        for (&k, held) in &self.held {
+        // Held bodies by index (keys are sorted: a held supporter is found by binary
+        // search); "supporter i holds up dependent j" as pairs, sorted into ranges.
+        let index = |h: RigidBodyHandle| keys.binary_search(&key(h)).ok();
+        let mut supported = vec![false; keys.len()];
+        let mut links: Vec<(usize, usize)> = Vec::new();
+        let mut queue: Vec<usize> = Vec::new();
+        for (i, held) in self.held.values().enumerate() {
             let Some(n) = graph.node_of_body(held.handle) else {
                 continue;
             };
             let mut base = graph.supports_of(n, up, MIN_SUPPORT_COS).next().is_some();
             for s in &held.supports {
+                if base {
+                    break;
+                }
                 let Some(node) = graph.node(s.node) else {
                     continue;
                 };
-                let supporter = node.body();
-                if let Some(mh) = supporter.filter(|&mh| self.held.contains_key(&key(mh))) {
-                    dependents.entry(key(mh)).or_default().push(k);
-                    continue;
+                match node.body().and_then(index) {
+                    Some(j) => links.push((j, i)),
+                    None => base = self.static_support_holds(graph, view, node, s),
                 }
-                base |=
-                    match node.kind() {
-                        NodeKind::Fixed => {
-                            s.pose.is_some() && static_pose(graph, view, s.node) == s.pose
-                        }
-                        NodeKind::Scripted => supporter
-                            .and_then(|mh| view.bodies.get(mh))
-                            .is_some_and(|rb| {
-                                rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
-                            }),
-                        // A simulated supporter supports only through a touching contact
-                        // now (checked above).
-                        _ => false,
-                    };
             }
-            if base && supported.insert(k) {
-                queue.push(k);
+            if base {
+                supported[i] = true;
+                queue.push(i);
             }
         }
-        while let Some(k) = queue.pop() {
-            if let Some(ds) = dependents.get(&k) {
-                for &d in ds {
-                    if supported.insert(d) {
-                        queue.push(d);
-                    }
+        links.sort_unstable();
+        while let Some(j) = queue.pop() {
+            let from = links.partition_point(|&(s, _)| s < j);
+            for &(_, d) in links[from..].iter().take_while(|&&(s, _)| s == j) {
+                if !supported[d] {
+                    supported[d] = true;
+                    queue.push(d);
                 }
             }
         }
-        self.unsupported
-            .extend(self.held.keys().copied().filter(|k| !supported.contains(k)));
+        self.unsupported.extend(
+            keys.iter()
+                .zip(&supported)
+                .filter(|(_, &ok)| !ok)
+                .map(|(k, _)| *k),
+        );
     }
 
     /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
