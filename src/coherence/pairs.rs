@@ -114,11 +114,17 @@ pub(crate) fn accumulate_pair(
         cache.touching = true;
     }
     let mut impulse: Real = 0.0;
+    let mut push = cache.push;
     for m in pair.solver_manifolds() {
         cache.contact_count += m.data.solver_contacts.len() as u32;
+        let n = if flip { -m.data.normal } else { m.data.normal };
         for p in &m.points {
             impulse += p.data.impulse;
+            push += n * p.data.impulse;
         }
+    }
+    if push.is_finite() {
+        cache.push = push;
     }
     if impulse.is_finite() {
         cache.normal_impulse += impulse;

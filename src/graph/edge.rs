@@ -87,6 +87,11 @@ pub struct ContactCache {
     pub normal: Vector,
     /// The number of collider pairs aggregated in this edge.
     pub collider_pairs: u32,
+    /// The resultant of the normal impulses of the last step, Σ impulse · normal
+    /// (pointing from *A* to *B*): the direction the contact as a whole pushes *B*.
+    /// A body in a corner touches a wall deepest but rests on the floor; this says
+    /// so where the deepest `normal` cannot. Zero without impulses.
+    pub push: Vector,
 }
 
 impl Default for ContactCache {
@@ -105,6 +110,7 @@ impl Default for ContactCache {
             normal_impulse: 0.0,
             normal: Vector::ZERO,
             collider_pairs: 0,
+            push: Vector::ZERO,
         }
     }
 }
@@ -134,6 +140,7 @@ impl ContactCache {
             self.max_penetration = 0.0;
             self.normal_impulse = 0.0;
             self.normal = Vector::ZERO;
+            self.push = Vector::ZERO;
         }
     }
 }

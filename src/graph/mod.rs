@@ -336,6 +336,37 @@ impl ContactGraph {
         })
     }
 
+    /// [`Self::supports_of`], judged by the resultant of the contact's normal impulses
+    /// ([`crate::graph::ContactCache::push`]) where there is one, and also counting
+    /// physical edges that are not touching but whose closest contact point is at most
+    /// `gap` apart (a body resting a hair above
+    /// its support, within Rapier's contact prediction distance, is held by it: the
+    /// solver keeps such speculative contacts). O(degree).
+    pub fn resting_supports_of(
+        &self,
+        n: NodeId,
+        up: Vector,
+        min_cos: Real,
+        gap: Real,
+    ) -> impl Iterator<Item = NodeId> + '_ {
+        self.neighbors(n).filter_map(move |(m, _, e)| {
+            let close = e.cache.touching || e.cache.min_distance <= gap;
+            if e.kind != EdgeKind::Physical || !close {
+                return None;
+            }
+            // The resultant of the contact's impulses where there is one (a body in a
+            // corner rests on the floor, though a wall may be deeper), else the
+            // deepest contact's normal.
+            let dir = if e.cache.push != Vector::ZERO {
+                e.cache.push.normalize()
+            } else {
+                e.cache.normal
+            };
+            let push = if e.b == n { dir } else { -dir };
+            (push.dot(up) > min_cos).then_some(m)
+        })
+    }
+
     // ── Mutation (crate-internal: the layer owns the graph's consistency) ──
 
     pub(crate) fn add_node(&mut self, kind: NodeKind, source: NodeSource) -> NodeId {

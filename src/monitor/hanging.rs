@@ -26,6 +26,7 @@ use rapier3d::prelude::RigidBodyHandle;
 
 use super::{simulated, Ctx, MonitorConfig, Peaks, Violation, ViolationKind};
 use crate::graph::NodeId;
+use crate::speedups::SUPPORT_GAP;
 
 /// A held, unsupported body being timed.
 #[derive(Clone, Copy, Debug)]
@@ -271,7 +272,7 @@ impl Hanging {
             }
             if ctx.layer.coherence().contact_details() {
                 graph
-                    .supports_of(n, up, config.min_support_cos)
+                    .resting_supports_of(n, up, config.min_support_cos, SUPPORT_GAP)
                     .next()
                     .is_some()
             } else {

@@ -86,6 +86,10 @@ struct Supporter {
 /// body up.
 const MIN_SUPPORT_COS: f32 = 0.1;
 
+/// How far apart a support may be and still hold a body: Rapier's default contact
+/// prediction distance (a resting body hovers within it).
+pub(crate) const SUPPORT_GAP: f32 = 0.002;
+
 /// A pose as bits, for ordering (`None` first).
 fn pose_bits(p: Option<Pose>) -> Option<[u32; 7]> {
     p.map(|p| {
@@ -707,7 +711,7 @@ impl SpeedUpState {
                 if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
                     let supports = if up.is_finite() && up != Vector::ZERO {
                         graph
-                            .supports_of(n, up, MIN_SUPPORT_COS)
+                            .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
                             .map(|m| Supporter {
                                 node: m,
                                 pose: graph
@@ -745,18 +749,20 @@ impl SpeedUpState {
             let Some(held) = self.held.get(&k) else {
                 continue;
             };
-            let ok = graph
-                .node_of_body(held.handle)
-                .is_some_and(|n| graph.supports_of(n, up, MIN_SUPPORT_COS).next().is_some())
-                || held.supports.iter().any(|s| {
-                    let Some(node) = graph.node(s.node) else {
-                        return false;
-                    };
-                    match node.body().filter(|&mh| self.held.contains_key(&key(mh))) {
-                        Some(mh) => !new.contains(&key(mh)) && !self.unsupported.contains(&key(mh)),
-                        None => self.static_support_holds(graph, view, node, s),
-                    }
-                });
+            let ok = graph.node_of_body(held.handle).is_some_and(|n| {
+                graph
+                    .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
+                    .next()
+                    .is_some()
+            }) || held.supports.iter().any(|s| {
+                let Some(node) = graph.node(s.node) else {
+                    return false;
+                };
+                match node.body().filter(|&mh| self.held.contains_key(&key(mh))) {
+                    Some(mh) => !new.contains(&key(mh)) && !self.unsupported.contains(&key(mh)),
+                    None => self.static_support_holds(graph, view, node, s),
+                }
+            });
             if !ok {
                 all = false;
                 break;
@@ -931,7 +937,10 @@ impl SpeedUpState {
             let Some(n) = graph.node_of_body(held.handle) else {
                 continue;
             };
-            let mut base = graph.supports_of(n, up, MIN_SUPPORT_COS).next().is_some();
+            let mut base = graph
+                .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
+                .next()
+                .is_some();
             for s in &held.supports {
                 if base {
                     break;
