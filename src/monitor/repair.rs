@@ -328,6 +328,11 @@ impl LayerMonitor {
                         self.planned.push(Action::Damp(v.body, keep.sqrt()));
                         repaired.push(*v);
                     }
+                    // The thinned solver (tweak) is what throws bodies when warm
+                    // start over-corrects: full strength for a while.
+                    if !self.planned.contains(&Action::Thicken) {
+                        self.planned.push(Action::Thicken);
+                    }
                 }
                 ViolationKind::DeepPenetration => {
                     if !self.planned.contains(&Action::Thicken) {

@@ -614,6 +614,7 @@ impl SpeedUpState {
 
     /// Decides sleep eligibility and fixation after the groups were rebuilt.
     /// O(awake groups' members + fast bodies' contacts).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn decide(
         &mut self,
         graph: &ContactGraph,
@@ -727,9 +728,11 @@ impl SpeedUpState {
                     self.stats.fixations += 1;
                 }
             }
-            if self.support_changed(graph, view, up, touched, nodes_removed, step) {
-                self.evaluate_support(graph, view, up);
-            } else if !self.newly_held.is_empty() && !self.judge_newly_held(graph, view) {
+            // Everything again when something it depends on changed; otherwise only
+            // the newly held bodies, unless one of them is unsupported.
+            if self.support_changed(graph, view, up, touched, nodes_removed, step)
+                || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
+            {
                 self.evaluate_support(graph, view, up);
             }
             self.newly_held.clear();
