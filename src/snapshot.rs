@@ -288,13 +288,13 @@ impl WorldStamp {
 }
 
 /// Everything a layer holds but its subscriptions. Built by `ContactLayer::to_state`.
-#[derive(Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub(crate) struct LayerState {
     pub(crate) graph: ContactGraph,
     pub(crate) groups: Groups,
     pub(crate) coherence: Coherence,
     pub(crate) logic: Logic,
-    pub(crate) bus: EventBus,
+    pub(crate) bus: SavedBus,
     pub(crate) stats: StepStats,
     pub(crate) gravity: rapier3d::math::Vector,
     pub(crate) colliders_seen: usize,
@@ -306,25 +306,16 @@ pub(crate) struct LayerState {
     pub(crate) monitor_restore: Option<LayerMonitor>,
 }
 
-impl Clone for LayerState {
+/// A layer's event bus as a snapshot holds it: no subscriptions, counters kept.
+/// (`EventBus::clone` forgets the counters; cloning this keeps them, so
+/// `LayerState` can derive `Clone`.)
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(transparent)]
+pub(crate) struct SavedBus(pub(crate) EventBus);
+
+impl Clone for SavedBus {
     fn clone(&self) -> Self {
-        Self {
-            graph: self.graph.clone(),
-            groups: self.groups.clone(),
-            coherence: self.coherence.clone(),
-            logic: self.logic.clone(),
-            // `EventBus::clone` forgets the counters; a snapshot keeps them.
-            bus: self.bus.without_subscriptions(),
-            stats: self.stats,
-            gravity: self.gravity,
-            colliders_seen: self.colliders_seen,
-            ticks: self.ticks.clone(),
-            events: self.events.clone(),
-            speedups: self.speedups.clone(),
-            monitor: self.monitor.clone(),
-            monitor_events: self.monitor_events.clone(),
-            monitor_restore: self.monitor_restore.clone(),
-        }
+        SavedBus(self.0.without_subscriptions())
     }
 }
 
