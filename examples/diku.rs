@@ -64,13 +64,6 @@ fn parse_args() -> Result<Args, String> {
     Ok(a)
 }
 
-fn combination_of(label: &str) -> Option<u8> {
-    if let Ok(n) = label.parse::<u8>() {
-        return (n < 128).then_some(n);
-    }
-    (0..128u8).find(|&b| SpeedUps::combination(b).label() == label)
-}
-
 /// The configurations to run; the reference always comes first.
 fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
     let mut out = vec![RunSpec::reference()];
@@ -111,7 +104,7 @@ fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
                             Some(l) => (l, true),
                             None => (other, false),
                         };
-                        let b = combination_of(label)
+                        let b = SpeedUps::combination_bits(label)
                             .ok_or(format!("unknown configuration `{other}`"))?;
                         let spec = RunSpec::combination(b);
                         out.push(if repair { spec.with_repair() } else { spec });

@@ -93,13 +93,6 @@ fn parse_args() -> Result<Args, String> {
     Ok(a)
 }
 
-fn combination_of(label: &str) -> Option<u8> {
-    if let Ok(n) = label.parse::<u8>() {
-        return (n < 128).then_some(n);
-    }
-    (0..128u8).find(|&b| SpeedUps::combination(b).label() == label)
-}
-
 /// The configurations to run; the reference always comes first.
 fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
     let mut out = vec![stability::reference()];
@@ -134,7 +127,7 @@ fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
                     "cg" => out.push(RunSpec::contact_graph()),
                     "stock" => out.push(RunSpec::stock()),
                     other => {
-                        let b = combination_of(other)
+                        let b = SpeedUps::combination_bits(other)
                             .ok_or(format!("unknown configuration `{other}`"))?;
                         out.push(RunSpec::combination(b));
                     }
@@ -220,7 +213,7 @@ fn kind_name(spec: &RunSpec) -> &'static str {
         (_, "brute force") => "brute_force",
         (_, "contact graph") => "contact_graph",
         (Mode::Stock, _) => "stock",
-        (_, name) if combination_of(name).is_some() => "combination",
+        (_, name) if SpeedUps::combination_bits(name).is_some() => "combination",
         _ => "control",
     }
 }
@@ -442,7 +435,7 @@ fn summary_table(per_case: &[(&StabilityCase, Vec<&RunResult>)]) {
         let combos: Vec<&RunResult> = rows
             .iter()
             .copied()
-            .filter(|r| combination_of(&r.name).is_some())
+            .filter(|r| SpeedUps::combination_bits(&r.name).is_some())
             .collect();
         let worst = combos.iter().copied().max_by(|a, b| {
             a.violations

@@ -137,6 +137,38 @@ impl SpeedUps {
             .collect()
     }
 
+    /// The combination bits (see [`Self::combination`]) of a label like `"C-----F"`
+    /// (as [`Self::label`] writes it) or of a number 0–127; `None` for anything else.
+    /// O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier_contact_graph::speedups::SpeedUps;
+    /// assert_eq!(SpeedUps::combination_bits("C-----F"), Some(0b100_0001));
+    /// assert_eq!(SpeedUps::combination_bits("65"), Some(65));
+    /// assert_eq!(SpeedUps::combination_bits("128"), None);
+    /// assert_eq!(SpeedUps::combination_bits("CTRZDS"), None);
+    /// ```
+    pub fn combination_bits(label: &str) -> Option<u8> {
+        if let Ok(n) = label.parse::<u8>() {
+            return (n < 128).then_some(n);
+        }
+        let letters = b"CTRZDSF";
+        let bytes = label.as_bytes();
+        if bytes.len() != letters.len() {
+            return None;
+        }
+        let mut bits = 0u8;
+        for (i, (&got, &on)) in bytes.iter().zip(letters).enumerate() {
+            match got {
+                b'-' => {}
+                g if g == on => bits |= 1 << i,
+                _ => return None,
+            }
+        }
+        Some(bits)
+    }
+
     /// Whether any switch needs the `modify_solver_contacts` hook.
     pub fn modifies_contacts(&self) -> bool {
         self.reduce || self.zero
@@ -187,6 +219,18 @@ impl fmt::Display for SpeedUps {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn combination_bits_inverts_the_label() {
+        for b in 0..128u8 {
+            let label = SpeedUps::combination(b).label();
+            assert_eq!(SpeedUps::combination_bits(&label), Some(b), "{label}");
+            assert_eq!(SpeedUps::combination_bits(&b.to_string()), Some(b));
+        }
+        for bad in ["", "CTRZDSFX", "TCRZDSF", "c-----f", "ctrzdsf", "128", "-1"] {
+            assert_eq!(SpeedUps::combination_bits(bad), None, "{bad}");
+        }
+    }
 
     #[test]
     fn combinations_cover_the_seven_switches() {
