@@ -177,8 +177,6 @@ pub struct LayerMonitor {
     thick_until: u64,
     /// Rapier's corrective velocity before the cap (restored after it).
     saved_cap: Option<Real>,
-    /// Whether the speed-ups' thinning is suspended now (restore when it ends).
-    thinning_off: bool,
     /// Fast bodies of the last analysis with the soft-CCD prediction they get.
     fast_now: Vec<(RigidBodyHandle, Real)>,
     /// Bodies given a soft-CCD prediction, with their own value before.
@@ -204,7 +202,6 @@ impl LayerMonitor {
             fresh: BTreeMap::new(),
             thick_until: 0,
             saved_cap: None,
-            thinning_off: false,
             fast_now: Vec::new(),
             predicted: BTreeMap::new(),
             totals: RepairCounts::default(),
@@ -235,7 +232,7 @@ impl LayerMonitor {
     /// Whether tweak and reduce stand down (a deep penetration was seen within the
     /// last [`RepairConfig::cap_steps`] steps).
     pub fn thinning_suspended(&self) -> bool {
-        self.thinning_off
+        self.thick_until > self.step
     }
 
     /// Changes the mode; leaving repair ends the caps at the next pre-step.
@@ -405,12 +402,13 @@ impl LayerMonitor {
         }
         // Soft-CCD predictions: set for the fast bodies, given back once slow again.
         let fast = std::mem::take(&mut self.fast_now);
-        let keep: Vec<(u32, u32)> = fast.iter().map(|(h, _)| h.into_raw_parts()).collect();
+        let mut keep: Vec<(u32, u32)> = fast.iter().map(|(h, _)| h.into_raw_parts()).collect();
+        keep.sort_unstable();
         let done: Vec<(u32, u32)> = self
             .predicted
             .keys()
             .copied()
-            .filter(|k| !keep.contains(k))
+            .filter(|k| keep.binary_search(k).is_err())
             .collect();
         for k in done {
             if let Some((h, own)) = self.predicted.remove(&k) {
@@ -440,7 +438,6 @@ impl LayerMonitor {
         } else if let Some(saved) = self.saved_cap.take() {
             params.normalized_max_corrective_velocity = saved;
         }
-        self.thinning_off = self.thick_until > step;
     }
 
     /// Undoes what repair mode changed in the world's parameters (when the mode goes
@@ -458,7 +455,6 @@ impl LayerMonitor {
         }
         self.fresh.clear();
         self.planned.clear();
-        self.thinning_off = false;
         self.thick_until = 0;
     }
 }
