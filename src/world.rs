@@ -55,3 +55,10 @@ impl<'a> From<&'a PhysicsWorld> for WorldView<'a> {
         }
     }
 }
+
+/// Whether a body has any velocity at all (a scripted body that moves cannot hold a
+/// body still). O(1).
+#[inline]
+pub(crate) fn moves(rb: &rapier3d::prelude::RigidBody) -> bool {
+    rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO
+}

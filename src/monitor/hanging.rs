@@ -181,10 +181,7 @@ impl Hanging {
                     continue;
                 }
                 let Some(k) = node.body() else { continue };
-                let moving = view
-                    .bodies
-                    .get(k)
-                    .is_some_and(|rb| rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO);
+                let moving = view.bodies.get(k).is_some_and(crate::world::moves);
                 if !moving {
                     continue;
                 }
@@ -243,10 +240,10 @@ impl Hanging {
             // a moving scripted body (rapier #692, #287) is not held plausibly, whatever
             // else supports it.
             let moving_script = |other: RigidBodyHandle| {
-                ctx.view.bodies.get(other).is_some_and(|rb| {
-                    rb.is_kinematic()
-                        && (rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO)
-                })
+                ctx.view
+                    .bodies
+                    .get(other)
+                    .is_some_and(|rb| rb.is_kinematic() && crate::world::moves(rb))
             };
             let dragged = ctx
                 .view

@@ -90,6 +90,17 @@ const MIN_SUPPORT_COS: f32 = 0.1;
 /// prediction distance (a resting body hovers within it).
 pub(crate) const SUPPORT_GAP: f32 = 0.002;
 
+/// Whether a held body rests on something now: a contact Rapier computes (against
+/// bodies that are not fixed) that pushes it up. O(degree).
+fn rests_now(graph: &ContactGraph, h: RigidBodyHandle, up: Vector) -> bool {
+    graph.node_of_body(h).is_some_and(|n| {
+        graph
+            .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
+            .next()
+            .is_some()
+    })
+}
+
 /// A pose as bits, for ordering (`None` first).
 fn pose_bits(p: Option<Pose>) -> Option<[u32; 7]> {
     p.map(|p| {
@@ -752,20 +763,16 @@ impl SpeedUpState {
             let Some(held) = self.held.get(&k) else {
                 continue;
             };
-            let ok = graph.node_of_body(held.handle).is_some_and(|n| {
-                graph
-                    .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
-                    .next()
-                    .is_some()
-            }) || held.supports.iter().any(|s| {
-                let Some(node) = graph.node(s.node) else {
-                    return false;
-                };
-                match node.body().filter(|&mh| self.held.contains_key(&key(mh))) {
-                    Some(mh) => !new.contains(&key(mh)) && !self.unsupported.contains(&key(mh)),
-                    None => self.static_support_holds(graph, view, node, s),
-                }
-            });
+            let ok = rests_now(graph, held.handle, up)
+                || held.supports.iter().any(|s| {
+                    let Some(node) = graph.node(s.node) else {
+                        return false;
+                    };
+                    match node.body().filter(|&mh| self.held.contains_key(&key(mh))) {
+                        Some(mh) => !new.contains(&key(mh)) && !self.unsupported.contains(&key(mh)),
+                        None => self.static_support_holds(graph, view, node, s),
+                    }
+                });
             if !ok {
                 all = false;
                 break;
@@ -827,7 +834,7 @@ impl SpeedUpState {
             NodeKind::Scripted => node
                 .body()
                 .and_then(|mh| view.bodies.get(mh))
-                .is_some_and(|rb| rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO),
+                .is_some_and(|rb| !crate::world::moves(rb)),
             _ => false,
         }
     }
@@ -869,7 +876,7 @@ impl SpeedUpState {
                 None => graph
                     .body_of(n)
                     .and_then(|h| view.bodies.get(h))
-                    .is_none_or(|rb| rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO),
+                    .is_none_or(crate::world::moves),
             })
     }
 
@@ -937,13 +944,10 @@ impl SpeedUpState {
         let mut links: Vec<(usize, usize)> = Vec::new();
         let mut queue: Vec<usize> = Vec::new();
         for (i, held) in self.held.values().enumerate() {
-            let Some(n) = graph.node_of_body(held.handle) else {
+            if graph.node_of_body(held.handle).is_none() {
                 continue;
-            };
-            let mut base = graph
-                .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
-                .next()
-                .is_some();
+            }
+            let mut base = rests_now(graph, held.handle, up);
             for s in &held.supports {
                 if base {
                     break;
