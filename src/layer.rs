@@ -226,6 +226,15 @@ impl ContactLayer {
         Ok(())
     }
 
+    /// Whether a body is held in place: fixated by the speed-ups (fixed in Rapier until
+    /// released) or asleep in Rapier. This is the `held` a [`crate::monitor::Monitor`]
+    /// run outside the layer wants, and what the layer's own monitor uses. O(log
+    /// fixated bodies).
+    pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
+        self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
+            || bodies.get(h).is_some_and(|b| b.is_sleeping())
+    }
+
     /// Primes the monitor's launch check with the world as it is now (see
     /// [`crate::monitor::Monitor::prime`]): call it before the first step. No-op with
     /// the monitor off. O(bodies).
@@ -409,11 +418,7 @@ impl ContactLayer {
         // The monitor (reads the world; repairs are applied in the next pre-step).
         let mut violations = 0;
         if let Some(mut m) = self.monitor.take() {
-            let speedups = self.speedups.as_ref();
-            let fixated = |h: RigidBodyHandle| speedups.is_some_and(|s| s.is_fixated(h));
-            let held = |h: RigidBodyHandle| {
-                fixated(h) || view.bodies.get(h).is_some_and(|b| b.is_sleeping())
-            };
+            let held = |h: RigidBodyHandle| self.holds(view.bodies, h);
             let pushed = std::mem::take(&mut m.pushed);
             m.monitor.check_with_quarantine(
                 self,

@@ -51,10 +51,7 @@ fn run(
     let mut traj = Trajectory::default();
     for step in 0..case.steps {
         common::step_validated(&mut scene, &mut layer, step);
-        let fixated = |h: RigidBodyHandle| layer.speedups().is_some_and(|s| s.is_fixated(h));
-        let held = |h: RigidBodyHandle| {
-            fixated(h) || scene.world.bodies.get(h).is_some_and(|b| b.is_sleeping())
-        };
+        let held = |h: RigidBodyHandle| layer.holds(&scene.world.bodies, h);
         monitor.check_with_quarantine(
             &layer,
             &WorldView::from(&scene.world),

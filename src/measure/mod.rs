@@ -320,10 +320,7 @@ pub fn run(
             layer.analyze(WorldView::from(&scene.world))
         };
         if !spec.repair {
-            let fixated = |h: RigidBodyHandle| layer.speedups().is_some_and(|s| s.is_fixated(h));
-            let held = |h: RigidBodyHandle| {
-                fixated(h) || scene.world.bodies.get(h).is_some_and(|b| b.is_sleeping())
-            };
+            let held = |h: RigidBodyHandle| layer.holds(&scene.world.bodies, h);
             monitor.check(&layer, &WorldView::from(&scene.world), &held, &|_| false);
         }
         let awake = scene
