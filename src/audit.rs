@@ -42,6 +42,7 @@
 //! | [`ContactLayer::analyze`] | as `step` | a view mixing two worlds' parts: no panic, `validate_view` answers | view gravity NaN/∞: accepted (supports nothing); `dt` NaN, ∞, < 0: as `step` (B2–B4) | `dt` = 0: accepted | twice per Rapier step: counted as two steps (timers advance 2·`dt`); one call per step is the contract, a view cannot tell | `analyze_with_odd_views` |
 //! | [`ContactLayer::hooks`] | — | — | — | — | while a Rapier step borrows them, `&mut` calls do not compile; `&self` queries from a Rapier `EventHandler` see the last analysis, consistent | `wrong_time_queries_during_a_rapier_step_see_the_last_analysis`, compile-fail example below |
 //! | [`ContactLayer::set_speedups`], [`ContactLayer::speedups`] | — | — | NaN/∞ parameter: `Err(InvalidParameter)` naming it; the configuration in force is kept | negative; `sleepy_steps`, `iterations`, `tweak_iterations` = 0: `Err(InvalidParameter)`. 0 thresholds and `f32::MAX` accepted; no upper bound on iteration counts (Rapier has none) | any time between steps; `None` twice: no-op | `set_speedups_refuses_bad_parameters` |
+//! | [`ContactLayer::set_monitor`], [`ContactLayer::monitor`], [`ContactLayer::mark_pushed`], [`ContactLayer::prime_monitor`], [`ContactLayer::holds`] | `mark_pushed` / `holds` with a removed body: ignored / `false` | alias | NaN/∞ threshold or repair parameter: `Err(InvalidParameter)` naming it; the monitor in force is kept | `corrective_cap` ≤ 0, `penetration_warning` outside (0, 1], `fast_travel` < 0, `min_support_cos` ≥ 1: `Err(InvalidParameter)` | any time between steps; `prime_monitor` / `mark_pushed` with the monitor off: no-op; `Off` twice: no-op | `monitor_entry_points_take_bad_input` |
 //! | [`ContactLayer::subscribe`], [`ContactLayer::subscribe_with_id`] | filter naming stale nodes: accepted, never matches (no error channel) | alias | — | `KindSet::NONE`, empty node list: accepted, never matches | events arrive after the step | `subscribe_with_stale_or_foreign_nodes_matches_nothing` |
 //! | [`ContactLayer::subscribe_bounded`] | a stale-node filter: `Err(StaleNode)` (B6: fixed) | alias | — | 0: `Err(InvalidParameter)`. above `events::MAX_CAPACITY` (2²⁴): `Err(InvalidParameter)` (B7: fixed) | events arrive after the step | `subscribe_bounded_zero_capacity_is_an_error`, `bug_subscribe_bounded_accepts_stale_node_filter`, `bug_subscribe_bounded_huge_capacity_panics` |
 //! | [`ContactLayer::unsubscribe`], [`ContactLayer::event_bus`] | twice, or after pruning: `false`, `dropped_for` → `None` | another layer's id: alias (may remove a local subscription) | — | — | dropped receiver: pruned at the next delivery, the step never blocks | `unsubscribe_and_dropped_receivers` |
@@ -265,6 +266,11 @@
 //! [`ContactLayer::hooks`]: crate::ContactLayer::hooks
 //! [`ContactLayer::set_speedups`]: crate::ContactLayer::set_speedups
 //! [`ContactLayer::speedups`]: crate::ContactLayer::speedups
+//! [`ContactLayer::set_monitor`]: crate::ContactLayer::set_monitor
+//! [`ContactLayer::monitor`]: crate::ContactLayer::monitor
+//! [`ContactLayer::mark_pushed`]: crate::ContactLayer::mark_pushed
+//! [`ContactLayer::prime_monitor`]: crate::ContactLayer::prime_monitor
+//! [`ContactLayer::holds`]: crate::ContactLayer::holds
 //! [`ContactLayer::subscribe`]: crate::ContactLayer::subscribe
 //! [`ContactLayer::subscribe_with_id`]: crate::ContactLayer::subscribe_with_id
 //! [`ContactLayer::subscribe_bounded`]: crate::ContactLayer::subscribe_bounded

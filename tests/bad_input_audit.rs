@@ -23,7 +23,9 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
 use rapier_contact_graph::export::{dot, text};
 use rapier_contact_graph::measure::{self, Mode, RunOptions, RunSpec, Trajectory};
-use rapier_contact_graph::monitor::{Monitor, MonitorConfig, ViolationKind};
+use rapier_contact_graph::monitor::{
+    Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
+};
 use rapier_contact_graph::report::{self, ChartPoint, ChartSpec, PointKind};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{
@@ -2344,4 +2346,71 @@ fn bug_incidental_predicate_rule_with_a_non_member() {
         world.bodies[ball].translation().y < 0.0,
         "the ball fell through the ground"
     );
+}
+
+#[test]
+fn monitor_entry_points_take_bad_input() {
+    let (mut world, _, ball, mut layer) = stepped(5);
+    // With the monitor off: priming and pushes are no-ops.
+    layer.prime_monitor(&WorldView::from(&world));
+    layer.mark_pushed(ball);
+    assert!(layer.monitor().is_none());
+    layer
+        .set_monitor(
+            MonitorMode::Off,
+            MonitorConfig::default(),
+            RepairConfig::default(),
+        )
+        .unwrap();
+    assert!(layer.monitor().is_none(), "Off twice: no-op");
+    layer
+        .set_monitor(
+            MonitorMode::Repair,
+            MonitorConfig::default(),
+            RepairConfig::default(),
+        )
+        .unwrap();
+    type Edit = fn(&mut RepairConfig);
+    let bad_repairs: [(&str, Edit); 7] = [
+        ("corrective_cap", |r| r.corrective_cap = 0.0),
+        ("corrective_cap", |r| r.corrective_cap = Real::NAN),
+        ("penetration_warning", |r| r.penetration_warning = 0.0),
+        ("penetration_warning", |r| r.penetration_warning = 1.5),
+        ("fast_travel", |r| r.fast_travel = -0.1),
+        ("fast_travel", |r| r.fast_travel = Real::NAN),
+        ("fast_travel", |r| r.fast_travel = Real::INFINITY),
+    ];
+    for (want, edit) in bad_repairs {
+        let mut r = RepairConfig::default();
+        edit(&mut r);
+        match layer.set_monitor(MonitorMode::Report, MonitorConfig::default(), r) {
+            Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, want),
+            other => panic!("{r:?}: expected an error on {want}, got {other:?}"),
+        }
+        assert_eq!(
+            layer.monitor().unwrap().mode(),
+            MonitorMode::Repair,
+            "the monitor in force is kept"
+        );
+    }
+    let bad_thresholds = MonitorConfig {
+        hang_time: Real::INFINITY,
+        ..MonitorConfig::default()
+    };
+    assert!(matches!(
+        layer.set_monitor(MonitorMode::Report, bad_thresholds, RepairConfig::default()),
+        Err(Error::InvalidParameter {
+            name: "hang_time",
+            ..
+        })
+    ));
+    // A removed body: pushes are ignored, and it is not held.
+    world.remove_body(ball);
+    layer.mark_pushed(ball);
+    assert!(!layer.holds(&world.bodies, ball));
+    no_panic("step after pushing a removed body", || {
+        layer.step(&mut world)
+    });
+    layer.validate(&world).unwrap();
+    assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
 }

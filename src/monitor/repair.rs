@@ -118,12 +118,19 @@ impl Default for RepairConfig {
 }
 
 impl RepairConfig {
-    /// Checks the fields: `corrective_cap` finite and positive.
+    /// Checks the fields: `corrective_cap` finite and positive, `penetration_warning` in
+    /// `(0, 1]`, `fast_travel` finite and non-negative.
     pub fn validate(&self) -> Result<()> {
         if !(self.corrective_cap.is_finite() && self.corrective_cap > 0.0) {
             return Err(Error::InvalidParameter {
                 name: "corrective_cap",
                 reason: format!("must be finite and positive, got {}", self.corrective_cap),
+            });
+        }
+        if !(self.fast_travel.is_finite() && self.fast_travel >= 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "fast_travel",
+                reason: format!("must be finite and non-negative, got {}", self.fast_travel),
             });
         }
         if !(self.penetration_warning > 0.0 && self.penetration_warning <= 1.0) {
