@@ -25,7 +25,8 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use rapier3d::prelude::PhysicsWorld;
-use rapier_contact_graph::{scenes, ContactLayer, WorldView};
+use rapier_contact_graph::{ContactLayer, WorldView};
+use rcg_scenes as scenes;
 
 const DEFAULT_SIZES: [usize; 2] = [1000, 5000];
 const DEFAULT_STEPS: usize = 600;

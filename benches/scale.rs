@@ -71,9 +71,10 @@ use rapier_contact_graph::coherence::aabbs_obsolete;
 use rapier_contact_graph::events::{EventKind, Filter};
 use rapier_contact_graph::logic::WorldMut;
 use rapier_contact_graph::{
-    scenes, ContactLayer, Edge, EdgeId, EdgeKind, Group, Node, NodeId, NodeKind, NodeSource,
-    PairKey, StepStats, WorldView,
+    ContactLayer, Edge, EdgeId, EdgeKind, Group, Node, NodeId, NodeKind, NodeSource, PairKey,
+    StepStats, WorldView,
 };
+use rcg_scenes as scenes;
 
 // ── A counting allocator: exact live heap bytes ────────────────────────
 

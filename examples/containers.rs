@@ -10,8 +10,8 @@
 use rapier_contact_graph::logic::ContainerSource;
 use rapier_contact_graph::rapier3d::math::Vector;
 use rapier_contact_graph::rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, EdgeKind, GroupId, NodeId, NodeKind, NodeSource};
+use rcg_scenes::{self as scenes, Scene};
 
 fn name(scene: &Scene, layer: &ContactLayer, n: NodeId) -> String {
     let h = layer.graph().body_of(n);

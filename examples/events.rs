@@ -10,8 +10,8 @@
 //! cargo run --example events
 //! ```
 
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet, NodeId};
+use rcg_scenes::{self as scenes, Scene};
 
 fn name(scene: &Scene, layer: &ContactLayer, n: NodeId) -> &'static str {
     let h = layer.graph().body_of(n);

@@ -12,8 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use rapier_contact_graph::export::dot::{to_dot, DotOptions};
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, NodeId};
+use rcg_scenes::{self as scenes, Scene};
 
 fn main() -> std::io::Result<()> {
     let dir = PathBuf::from(

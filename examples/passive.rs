@@ -7,9 +7,9 @@
 //! cargo run --example passive
 //! ```
 
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::EventKind::{ProximityBegin, ProximityEnd, TouchBegin, TouchEnd};
 use rapier_contact_graph::{ContactLayer, Filter, KindSet, NodeId};
+use rcg_scenes::{self as scenes, Scene};
 
 fn name(scene: &Scene, layer: &ContactLayer, n: NodeId) -> &'static str {
     let h = layer.graph().body_of(n);

@@ -7,7 +7,8 @@
 
 use std::time::{Duration, Instant};
 
-use rapier_contact_graph::{scenes, ContactLayer, WorldView};
+use rapier_contact_graph::{ContactLayer, WorldView};
+use rcg_scenes as scenes;
 
 fn usage() -> ! {
     eprintln!(

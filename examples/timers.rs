@@ -6,7 +6,8 @@
 //! cargo run --example timers
 //! ```
 
-use rapier_contact_graph::{scenes, ContactLayer, EventKind, Filter, KindSet};
+use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet};
+use rcg_scenes as scenes;
 
 fn main() {
     let mut scene = scenes::ball_on_box();

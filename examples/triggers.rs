@@ -6,8 +6,8 @@
 //! cargo run --example triggers
 //! ```
 
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, Event, EventKind, Filter, KindSet, NodeId, NodeSource};
+use rcg_scenes::{self as scenes, Scene};
 
 /// The scene's name for a node: its body's, or for a trigger its sensor's body's.
 fn name(scene: &Scene, layer: &ContactLayer, node: NodeId) -> String {

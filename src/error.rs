@@ -57,7 +57,7 @@ pub enum Error {
     /// (`ContactLayer::restore_with`).
     UnboundPredicate(NodeId),
     /// The call is refused because Rapier 0.36 cannot carry it out: it would panic in
-    /// Rapier's next step (see the "Rapier's own panics" part of [`crate::audit`]).
+    /// Rapier's next step (see the "Rapier's own panics" part of `docs/audit.md`).
     /// Nothing was changed.
     Unsupported {
         /// The call or change refused, in words.

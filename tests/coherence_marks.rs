@@ -87,7 +87,7 @@ fn a_fly_by_goes_through_every_mark_in_order_and_the_edge_goes_when_obsolete() {
 
 #[test]
 fn removing_a_body_removes_its_node_and_reports_its_edges_vanished() {
-    let mut scene = rapier_contact_graph::scenes::ball_on_box();
+    let mut scene = rcg_scenes::ball_on_box();
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 80);
     let bx = scene.body("box").unwrap();
@@ -121,7 +121,7 @@ fn removing_a_body_removes_its_node_and_reports_its_edges_vanished() {
 #[test]
 fn stale_ids_and_foreign_handles_are_errors_not_panics() {
     use rapier_contact_graph::{Error, NodeId};
-    let mut scene = rapier_contact_graph::scenes::ball_on_box();
+    let mut scene = rcg_scenes::ball_on_box();
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 2);
     let foreign = RigidBodyHandle::from_raw_parts(999, 0);
@@ -148,7 +148,7 @@ fn stale_ids_and_foreign_handles_are_errors_not_panics() {
 
 #[test]
 fn a_non_finite_body_does_not_poison_the_graph() {
-    let mut scene = rapier_contact_graph::scenes::sphere_stack(3);
+    let mut scene = rcg_scenes::sphere_stack(3);
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 30);
     let top = scene.body("s2").unwrap();

@@ -7,8 +7,8 @@ use std::collections::{BTreeSet, HashMap};
 
 use petgraph::unionfind::UnionFind;
 use rapier3d::prelude::*;
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, EdgeKind, NodeId};
+use rcg_scenes::{self as scenes, Scene};
 
 /// The partition of simulated bodies into groups, by petgraph's union-find over the
 /// touching and structural edges whose ends are not insulators.

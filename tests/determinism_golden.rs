@@ -48,9 +48,9 @@ use std::sync::OnceLock;
 use rapier3d::math::Vector;
 use rapier3d::prelude::*;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-use rapier_contact_graph::scenes;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Event, NodeId};
+use rcg_scenes as scenes;
 
 // ── Pinned hashes (x86_64, rustc 1.95.0, rapier3d 0.36.1) ──────────────
 // History: first pinned at 3c2af2b; `GOLDEN_ALL_EVENTS` re-pinned at 54ad0e4 after

@@ -5,7 +5,8 @@ mod common;
 
 use common::contract::ContractLog;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-use rapier_contact_graph::{scenes, ContactLayer, Error};
+use rapier_contact_graph::{ContactLayer, Error};
+use rcg_scenes as scenes;
 
 #[test]
 fn the_contract_holds_in_a_settling_pile_with_removals() {

@@ -3,7 +3,7 @@
 
 mod common;
 
-use rapier_contact_graph::scenes;
+use rcg_scenes as scenes;
 
 fn check(name: &str, scene: scenes::Scene, frames: &[u64]) {
     for (frame, text) in common::snapshot_frames(scene, frames) {

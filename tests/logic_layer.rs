@@ -6,7 +6,8 @@ mod common;
 use common::contract::ContractLog;
 use rapier3d::prelude::*;
 use rapier_contact_graph::events::EventKind;
-use rapier_contact_graph::{scenes, ContactLayer, EdgeKind, Error, NodeId, NodeKind, Rule};
+use rapier_contact_graph::{ContactLayer, EdgeKind, Error, NodeId, NodeKind, Rule};
+use rcg_scenes as scenes;
 
 fn transitions(log: &ContractLog) -> Vec<rapier_contact_graph::Event> {
     log.events

@@ -10,8 +10,8 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::{
     Monitor, MonitorConfig, Peaks, Violation, ViolationCounts, ViolationKind,
 };
-use rapier_contact_graph::scenes::{self, Scene};
 use rapier_contact_graph::{ContactLayer, Error, WorldView};
+use rcg_scenes::{self as scenes, Scene};
 
 const DT: Real = 0.01;
 

@@ -12,9 +12,9 @@ use crossbeam_channel::Receiver;
 use rapier3d::prelude::*;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig, ViolationKind};
-use rapier_contact_graph::scenes::{sphere_pile, sphere_stack, Scene};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error, Event};
+use rcg_scenes::{sphere_pile, sphere_stack, Scene};
 
 fn fixate_all() -> SpeedUps {
     SpeedUps {

@@ -2,8 +2,8 @@
 
 mod common;
 
-use rapier_contact_graph::scenes;
 use rapier_contact_graph::ContactLayer;
+use rcg_scenes as scenes;
 
 #[test]
 fn settling_pile_is_bit_identical_with_and_without_the_layer() {

@@ -7,8 +7,8 @@ mod common;
 use std::collections::BTreeSet;
 
 use rapier_contact_graph::coherence::ScanPolicy;
-use rapier_contact_graph::scenes;
 use rapier_contact_graph::{ContactLayer, EdgeKind};
+use rcg_scenes as scenes;
 
 /// The graph as a set of lines that do not depend on slot order.
 fn edge_set(layer: &ContactLayer, details: bool) -> BTreeSet<String> {

@@ -15,11 +15,11 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::export::text::describe;
 use rapier_contact_graph::logic::IgnorePredicate;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::scenes::{self, Scene, Script};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{
     ContactLayer, Error, Event, Filter, KindSet, LayerSnapshot, NodeId, Rule, SNAPSHOT_FORMAT,
 };
+use rcg_scenes::{self as scenes, Scene, Script};
 
 /// World and layer to bytes, the way a game would save them.
 fn save(world: &PhysicsWorld, layer: &ContactLayer) -> Vec<u8> {

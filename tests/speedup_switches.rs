@@ -4,9 +4,9 @@
 mod common;
 
 use rapier3d::prelude::*;
-use rapier_contact_graph::scenes;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error};
+use rcg_scenes as scenes;
 
 fn layer_with(s: SpeedUps) -> ContactLayer {
     let mut layer = ContactLayer::new();

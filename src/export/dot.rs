@@ -157,7 +157,8 @@ impl fmt::Debug for DotOptions<'_> {
 /// # Example
 /// ```
 /// use rapier_contact_graph::export::dot::{to_dot, DotOptions};
-/// use rapier_contact_graph::{scenes, ContactLayer};
+/// use rcg_scenes as scenes;
+/// use rapier_contact_graph::ContactLayer;
 ///
 /// let mut scene = scenes::ball_on_box();
 /// let mut layer = ContactLayer::new();
@@ -391,7 +392,7 @@ mod tests {
     use rapier3d::prelude::*;
 
     use super::*;
-    use crate::scenes::{self, Scene};
+    use rcg_scenes::{self as scenes, Scene};
 
     /// Runs `steps` layer steps on a scene.
     fn run(scene: &mut Scene, steps: u64) -> ContactLayer {

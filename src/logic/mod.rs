@@ -12,8 +12,8 @@
 //!
 //! # Passive bodies and Rapier's own panics
 //! A passive body is a disabled Rapier body, and Rapier 0.36.1 panics in its step on
-//! two states around disabled bodies (reproduced with plain Rapier; see the `audit`
-//! module, "Rapier's own panics"): a disabled multibody member the solver needs, and
+//! two states around disabled bodies (reproduced with plain Rapier; see
+//! `docs/audit.md`, "Rapier's own panics"): a disabled multibody member the solver needs, and
 //! an enabled impulse joint between a disabled body and a fixed or disabled one. The
 //! pre-step guards the bodies the layer made passive, checking the world as it is
 //! then (the user may have joined bodies since `set_passive`):

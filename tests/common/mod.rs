@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use rapier3d::prelude::*;
-use rapier_contact_graph::scenes::Scene;
 use rapier_contact_graph::{ContactLayer, StepStats};
+use rcg_scenes::Scene;
 
 /// Steps a scene with the layer `n` times (script first), validating after every step.
 pub fn run_validated(scene: &mut Scene, layer: &mut ContactLayer, first: u64, n: u64) -> StepStats {

@@ -1,0 +1,386 @@
+//! The project's main job: the DIKU scene (paper §7, Fig. 12) run under the reference,
+//! brute force, the contact graph, stock Rapier and all 2^7 combinations of cache,
+//! tweak, reduce, zero, damp, subgroup and fixate; every run measured for speed and
+//! accuracy in one process (DESIGN §5).
+//!
+//! ```text
+//! cargo run --release --example diku -- [--spheres N] [--configs LIST] [--steps K]
+//!                                       [--seed S] [--out DIR]
+//! ```
+//! `LIST` is `all` (default: the named runs, the 128 combinations, and each again with
+//! the monitor repairing), `quick` (the named runs and 8 combinations, each with and
+//! without repair), or a comma list of `reference`, `brute`, `cg`, `cg+repair`,
+//! `stock` and combination labels like `C-----F` or numbers 0–127, each optionally
+//! with a `+repair` suffix. Writes `results.csv`, `chart.svg` and `chart.png` into `DIR`
+//! (default `target/diku`), and prints the table.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use rapier3d::prelude::RigidBodyHandle;
+use rapier_contact_graph::monitor::MonitorConfig;
+use rapier_contact_graph::speedups::SpeedUps;
+use rcg_lab::measure::{self, Mode, RunOptions, RunResult, RunSpec};
+use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
+use rcg_scenes::diku::{diku, is_on_plane, DikuParams};
+
+const USAGE: &str = "usage: diku [--spheres N] [--configs all|quick|LIST] [--steps K] [--seed S] [--out DIR]
+  LIST: comma-separated reference, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127,
+        each optionally suffixed +repair (the monitor repairing)";
+
+struct Args {
+    spheres: usize,
+    configs: String,
+    steps: u64,
+    seed: u64,
+    out: PathBuf,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut a = Args {
+        spheres: 120,
+        configs: "all".into(),
+        steps: 1000,
+        seed: 0,
+        out: PathBuf::from("target/diku"),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
+        match flag.as_str() {
+            "--spheres" => a.spheres = value()?.parse().map_err(|e| format!("--spheres: {e}"))?,
+            "--configs" => a.configs = value()?,
+            "--steps" => a.steps = value()?.parse().map_err(|e| format!("--steps: {e}"))?,
+            "--seed" => a.seed = value()?.parse().map_err(|e| format!("--seed: {e}"))?,
+            "--out" => a.out = PathBuf::from(value()?),
+            "-h" | "--help" => return Err(String::new()),
+            other => return Err(format!("unknown option `{other}`")),
+        }
+    }
+    if a.spheres == 0 || a.steps == 0 {
+        return Err("--spheres and --steps must be positive".into());
+    }
+    Ok(a)
+}
+
+/// The configurations to run; the reference always comes first.
+fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
+    let mut out = vec![RunSpec::reference()];
+    let named = [
+        RunSpec::brute_force(),
+        RunSpec::contact_graph(),
+        RunSpec::stock(),
+    ];
+    match list {
+        "all" => {
+            out.extend(named);
+            out.push(RunSpec::contact_graph().with_repair());
+            out.extend((0..128u8).map(RunSpec::combination));
+            // Every combination again with the monitor repairing (issue 5): the speed
+            // given up for safety.
+            out.extend((0..128u8).map(|b| RunSpec::combination(b).with_repair()));
+        }
+        "quick" => {
+            out.extend(named);
+            for b in [
+                0b000_0001, 0b000_0010, 0b001_0000, 0b110_0000, 0b110_0001, 0b111_1001, 0b111_1011,
+                127,
+            ] {
+                out.push(RunSpec::combination(b));
+                out.push(RunSpec::combination(b).with_repair());
+            }
+        }
+        _ => {
+            for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+                match item {
+                    "reference" => {}
+                    "brute" => out.push(RunSpec::brute_force()),
+                    "cg" => out.push(RunSpec::contact_graph()),
+                    "stock" => out.push(RunSpec::stock()),
+                    "cg+repair" => out.push(RunSpec::contact_graph().with_repair()),
+                    other => {
+                        let (label, repair) = match other.strip_suffix("+repair") {
+                            Some(l) => (l, true),
+                            None => (other, false),
+                        };
+                        let b = SpeedUps::combination_bits(label)
+                            .ok_or(format!("unknown configuration `{other}`"))?;
+                        let spec = RunSpec::combination(b);
+                        out.push(if repair { spec.with_repair() } else { spec });
+                    }
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn kind_of(spec: &RunSpec) -> PointKind {
+    if spec.repair {
+        return PointKind::Repaired;
+    }
+    match (&spec.mode, spec.name.as_str()) {
+        (_, "reference") => PointKind::Reference,
+        (_, "brute force") => PointKind::BruteForce,
+        (_, "contact graph") => PointKind::ContactGraph,
+        (Mode::Stock, _) => PointKind::StockRapier,
+        _ => PointKind::Combination,
+    }
+}
+
+fn progress(done: usize, total: usize, name: &str, started: Instant) {
+    let width = 30;
+    let filled = done * width / total.max(1);
+    let elapsed = started.elapsed().as_secs_f64();
+    let eta = if done > 0 {
+        elapsed / done as f64 * (total - done) as f64
+    } else {
+        0.0
+    };
+    eprint!(
+        "\r[{}{}] {done}/{total} {:<14} {:>6.1}s elapsed, ~{:>5.0}s left ",
+        "#".repeat(filled),
+        " ".repeat(width - filled),
+        name,
+        elapsed,
+        eta
+    );
+    let _ = std::io::stderr().flush();
+}
+
+fn main() {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(msg) => {
+            if !msg.is_empty() {
+                eprintln!("error: {msg}");
+            }
+            eprintln!("{USAGE}");
+            std::process::exit(2);
+        }
+    };
+    let specs = match configs(&args.configs) {
+        Ok(s) => s,
+        Err(msg) => {
+            eprintln!("error: {msg}\n{USAGE}");
+            std::process::exit(2);
+        }
+    };
+    let params = DikuParams {
+        spheres: args.spheres,
+        seed: args.seed,
+        ..DikuParams::default()
+    };
+    let spheres: Vec<RigidBodyHandle> = {
+        let scene = diku(&params);
+        let mut v: Vec<_> = scene
+            .world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, _)| h)
+            .collect();
+        v.sort_by_key(|h| h.into_raw_parts());
+        v
+    };
+    let inside = |p| is_on_plane(&params, p);
+    println!(
+        "DIKU scene: {} spheres, {} steps of 0.01 s, {} configurations",
+        args.spheres,
+        args.steps,
+        specs.len()
+    );
+    let started = Instant::now();
+    let mut results: Vec<(RunSpec, RunResult)> = Vec::new();
+    let mut reference = None;
+    for (i, spec) in specs.iter().enumerate() {
+        progress(i, specs.len(), &spec.name, started);
+        let opts = RunOptions {
+            steps: args.steps,
+            sample_every: 10,
+            radius: params.radius,
+            bodies: &spheres,
+            reference: reference.as_ref(),
+            inside: &inside,
+            monitor: MonitorConfig::default(),
+        };
+        match measure::run(spec, diku(&params), &opts) {
+            Ok((mut r, traj)) => {
+                if reference.is_none() {
+                    r.deviation = 0.0;
+                    reference = Some(traj);
+                }
+                results.push((spec.clone(), r));
+            }
+            Err(e) => {
+                eprintln!("\nerror in {}: {e}", spec.name);
+                std::process::exit(1);
+            }
+        }
+    }
+    progress(specs.len(), specs.len(), "done", started);
+    eprintln!();
+
+    let time_of = |name: &str| {
+        results
+            .iter()
+            .find(|(s, _)| s.name == name)
+            .map(|(_, r)| r.time_s)
+    };
+    let brute = time_of("brute force");
+    let stock = time_of("stock Rapier");
+    let ratio = |base: Option<f64>, t: f64| base.map_or(f64::NAN, |b| b / t);
+
+    // Table (paper Tables 4–5, with accuracy).
+    println!(
+        "\n{:<16} {:>8} {:>8} {:>8} {:>9} {:>5} {:>7} {:>9} {:>7} {:>8} {:>5}",
+        "configuration",
+        "time s",
+        "xbrute",
+        "xstock",
+        "dev (r)",
+        "viol",
+        "groups",
+        "max vars",
+        "awake",
+        "last 1s",
+        "left"
+    );
+    for (_, r) in &results {
+        println!(
+            "{:<16} {:>8.3} {:>8.2} {:>8.2} {:>9.4} {:>5} {:>7.1} {:>9} {:>7.1} {:>8.3} {:>5}",
+            r.name,
+            r.time_s,
+            ratio(brute, r.time_s),
+            ratio(stock, r.time_s),
+            r.deviation,
+            r.violations.total(),
+            r.mean_groups,
+            r.max_largest_variables,
+            r.mean_awake,
+            r.tail_time_s,
+            r.left_region
+        );
+    }
+
+    if let Err(e) = std::fs::create_dir_all(&args.out) {
+        eprintln!("cannot create {}: {e}", args.out.display());
+        std::process::exit(1);
+    }
+    let mut csv = String::from(
+        "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,time_s,speedup_brute,speedup_stock,deviation_radii,violations,hanging,launch,penetration,escape,mean_groups,max_group_variables,mean_awake,final_awake,last_second_s,left_plane\n",
+    );
+    for (spec, r) in &results {
+        let sw = match &spec.mode {
+            Mode::Layer(s) => [
+                s.cache, s.tweak, s.reduce, s.zero, s.damp, s.subgroup, s.fixate,
+            ]
+            .map(|b| b as u8)
+            .map(|b| b.to_string()),
+            _ => std::array::from_fn(|_| String::new()),
+        };
+        csv += &format!(
+            "{},{:?},{},{:.6},{:.4},{:.4},{:.6},{},{},{},{},{},{:.3},{},{:.3},{},{:.6},{}\n",
+            r.name,
+            kind_of(spec),
+            sw.join(","),
+            r.time_s,
+            ratio(brute, r.time_s),
+            ratio(stock, r.time_s),
+            r.deviation,
+            r.violations.total(),
+            r.violations.hanging,
+            r.violations.launch,
+            r.violations.penetration,
+            r.violations.escape,
+            r.mean_groups,
+            r.max_largest_variables,
+            r.mean_awake,
+            r.final_awake,
+            r.tail_time_s,
+            r.left_region
+        );
+    }
+    let points: Vec<ChartPoint> = results
+        .iter()
+        .filter(|(_, r)| r.deviation.is_finite())
+        .map(|(spec, r)| ChartPoint {
+            label: r.name.clone(),
+            deviation: r.deviation,
+            speedup: ratio(brute, r.time_s),
+            violations: r.violations.total(),
+            kind: kind_of(spec),
+        })
+        .collect();
+    let title = format!(
+        "DIKU, {} spheres: speed-up over brute force vs deviation",
+        args.spheres
+    );
+    let spec = ChartSpec {
+        title: &title,
+        x_label: "deviation from the reference (sphere radii, RMS of the mean error)",
+        y_label: "speed-up over brute force",
+        width: 1000,
+        height: 640,
+        log_y: false,
+    };
+    let write = |name: &str, bytes: &[u8]| {
+        let path = args.out.join(name);
+        if let Err(e) = std::fs::write(&path, bytes) {
+            eprintln!("cannot write {}: {e}", path.display());
+            std::process::exit(1);
+        }
+    };
+    write("results.csv", csv.as_bytes());
+    write("chart.svg", report::svg(&points, &spec).as_bytes());
+    write("chart.png", &report::png(&points, &spec));
+    let front = report::pareto_front(&points, true);
+    println!("\nPareto front (zero violations), by deviation:");
+    let mut f: Vec<&ChartPoint> = front.iter().map(|&i| &points[i]).collect();
+    f.sort_by(|a, b| a.deviation.total_cmp(&b.deviation));
+    for p in f {
+        println!(
+            "  {:<16} deviation {:>8.4} r, speed-up {:>6.2}x",
+            p.label, p.deviation, p.speedup
+        );
+    }
+    // The best zero-violation configuration with and without repair, against stock
+    // Rapier (issue 5's target: the best repaired one >= 3x stock at N >= 1,200).
+    let stock_dev = results
+        .iter()
+        .find(|(s, _)| s.name == "stock Rapier")
+        .map(|(_, r)| r.deviation);
+    for repaired in [false, true] {
+        let best = results
+            .iter()
+            .filter(|(s, r)| {
+                matches!(s.mode, Mode::Layer(_))
+                    && s.repair == repaired
+                    && r.violations.total() == 0
+            })
+            .min_by(|a, b| a.1.time_s.total_cmp(&b.1.time_s));
+        let what = if repaired { "repaired" } else { "unrepaired" };
+        match best {
+            Some((_, r)) => println!(
+                "best zero-violation {what}: {:<16} {:>6.2}x stock, {:>6.2}x brute force, deviation {:.3} r (stock {:.3} r)",
+                r.name,
+                ratio(stock, r.time_s),
+                ratio(brute, r.time_s),
+                r.deviation,
+                stock_dev.unwrap_or(f64::NAN)
+            ),
+            None => println!("best zero-violation {what}: none ran without violations"),
+        }
+    }
+    let left: usize = results
+        .iter()
+        .map(|(_, r)| r.left_region)
+        .max()
+        .unwrap_or(0);
+    println!(
+        "\nspheres that left the plane (worst run): {left}\nwrote {}/results.csv, chart.svg, chart.png in {:.1} s",
+        args.out.display(),
+        started.elapsed().as_secs_f64()
+    );
+}

@@ -1,0 +1,18 @@
+//! # rcg-lab: the laboratory of `rapier-contact-graph`
+//!
+//! Everything the project measures with, kept out of the plugin a Rapier user links:
+//! - [`measure`]: one configuration run on a scene, timed, compared against a
+//!   reference, its plausibility violations counted (paper §7, Tables 4–5);
+//! - [`report`]: charts of speed against accuracy with the Pareto front, and frames
+//!   of a scene coloured by body state (paper Fig. 17);
+//! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
+//!   the switch it is built against, its control run and its reference.
+//!
+//! The runners (`diku`, `stability`, `frames`) are this crate's examples; the scenes
+//! live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not published.
+
+#![warn(missing_docs)]
+
+pub mod measure;
+pub mod report;
+pub mod stability;
