@@ -8,7 +8,7 @@
 //! Built against tweak (1 solver iteration instead of 4). Measured: without warm start
 //! (the cache switch off) the tower falls in every configuration, tweak or not, 16
 //! iterations included, so the suite measures it on the cache switch
-//! ([`super::StabilityCase::base`]); there one iteration keeps it standing, bouncing
+//! (`rcg_lab::stability::StabilityCase::base`); there one iteration keeps it standing, bouncing
 //! (its top moves ±8 cm), and reduce drops it.
 
 use rapier3d::math::{Real, Vector};
