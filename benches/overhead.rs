@@ -1,4 +1,4 @@
-//! Overhead of the contact-graph layer over plain Rapier (DESIGN §7: ≤ 3% of Rapier's
+//! Overhead of the contact-graph layer over plain Rapier (docs/ARCHITECTURE.md §6: ≤ 3% of Rapier's
 //! step time on a 5,000-sphere pile, ratio measured within one run).
 //!
 //! For each pile size N two identical worlds are built with `scenes::sphere_pile(N, 1)`
@@ -354,7 +354,7 @@ fn print_table(outcomes: &[Outcome]) {
         println!();
     }
     println!("{}", "-".repeat(w0 + (wc + 3) * outcomes.len()));
-    println!("target (DESIGN §7): analysis / rapier <= 3.00 % at N = 5000, identical = yes");
+    println!("target (docs/ARCHITECTURE.md §6): analysis / rapier <= 3.00 % at N = 5000, identical = yes");
 }
 
 fn main() {

@@ -1,4 +1,4 @@
-//! Scale and memory (issue 6, item 5): 100,000 bodies, most of them asleep, plus
+//! Scale and memory: 100,000 bodies, most of them asleep, plus
 //! 10,000 trigger and timer nodes, churned for 10,000 steps.
 //!
 //! # The scene (built here, deterministic)
