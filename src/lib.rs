@@ -38,6 +38,8 @@
 #![warn(missing_docs)]
 
 pub mod coherence;
+#[cfg(feature = "debug-render")]
+pub mod debug_render;
 mod error;
 pub mod events;
 pub mod export;
@@ -53,6 +55,8 @@ pub mod speedups;
 mod validate;
 mod world;
 
+#[cfg(feature = "debug-render")]
+pub use debug_render::{BodyState, GraphOverlay, OverlayStats, OverlayStyle};
 pub use error::{Error, Result};
 pub use events::{Event, EventKind, Filter, KindSet};
 pub use graph::{
