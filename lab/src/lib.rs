@@ -3,8 +3,9 @@
 //! Everything the project measures with, kept out of the plugin a Rapier user links:
 //! - [`measure`]: one configuration run on a scene, timed, compared against a
 //!   reference, its plausibility violations counted (paper §7, Tables 4–5);
-//! - [`report`]: charts of speed against accuracy with the Pareto front, and frames
-//!   of a scene coloured by body state (paper Fig. 17);
+//! - [`report`]: charts of speed against accuracy with the Pareto front (plotters, SVG
+//!   and PNG), and frames of a scene: Rapier's debug render coloured by body state
+//!   (paper Fig. 17; tiny-skia, PNG);
 //! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
 //!   the switch it is built against, its control run and its reference.
 //!
