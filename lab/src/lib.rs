@@ -7,13 +7,16 @@
 //!   and PNG), and frames of a scene: Rapier's debug render coloured by body state
 //!   (paper Fig. 17; tiny-skia, PNG);
 //! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
-//!   the switch it is built against, its control run and its reference.
+//!   the switch it is built against, its control run and its reference;
+//! - [`cli`]: the runners as subcommands of the one binary, `rcg-lab` (clap,
+//!   indicatif, csv): `cargo lab diku`, `cargo lab stability`, `cargo lab frames`.
 //!
-//! The runners (`diku`, `stability`, `frames`) are this crate's examples; the scenes
-//! live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not published.
+//! The scenes live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not
+//! published.
 
 #![warn(missing_docs)]
 
+pub mod cli;
 pub mod measure;
 pub mod report;
 pub mod stability;

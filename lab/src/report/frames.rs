@@ -76,8 +76,9 @@
 //! [`Renderer::render`]: Rapier's pass (a few dozen lines per collider: 3 × 48 for a
 //! ball), one classifier call per body, a sort of the objects by depth, then
 //! O(pixels covered) stroking and O(pixels) for the copy to RGB and the text. Measured
-//! with the `frames` subcommand (8 bodies, 800 × 480, release build, 2 shared cores):
-//! about 3 ms to render a frame and 3 ms to encode and write its PNG, of about 20 KB.
+//! with the `frames` subcommand (4 bodies, 800 × 480, release build, 2 shared cores):
+//! 1–2 ms to render a frame and 3 ms to encode and write its PNG, of about 21 KB (the
+//! hand-written renderer before: 6 ms, and 1.15 MB stored uncompressed).
 
 mod camera;
 mod shade;
