@@ -1,4 +1,4 @@
-//! The DIKU scene (shared with the `diku` example and the tests) as a benchmark:
+//! The DIKU scene (shared with `rcg-lab diku` and the tests) as a benchmark:
 //! stock Rapier, brute force, the contact graph and the fastest zero-violation
 //! combination of the last full run, measured in one process and printed as ratios.
 //!

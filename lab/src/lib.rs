@@ -3,16 +3,20 @@
 //! Everything the project measures with, kept out of the plugin a Rapier user links:
 //! - [`measure`]: one configuration run on a scene, timed, compared against a
 //!   reference, its plausibility violations counted (paper §7, Tables 4–5);
-//! - [`report`]: charts of speed against accuracy with the Pareto front, and frames
-//!   of a scene coloured by body state (paper Fig. 17);
+//! - [`report`]: charts of speed against accuracy with the Pareto front (plotters, SVG
+//!   and PNG), and frames of a scene: Rapier's debug render coloured by body state
+//!   (paper Fig. 17; tiny-skia, PNG);
 //! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
-//!   the switch it is built against, its control run and its reference.
+//!   the switch it is built against, its control run and its reference;
+//! - [`cli`]: the runners as subcommands of the one binary, `rcg-lab` (clap,
+//!   indicatif, csv): `cargo lab diku`, `cargo lab stability`, `cargo lab frames`.
 //!
-//! The runners (`diku`, `stability`, `frames`) are this crate's examples; the scenes
-//! live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not published.
+//! The scenes live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not
+//! published.
 
 #![warn(missing_docs)]
 
+pub mod cli;
 pub mod measure;
 pub mod report;
 pub mod stability;

@@ -28,7 +28,7 @@
 //! | `static_moved` | stock, sleepy, fixate | fixate only: the boxes stay in the air (not reported: see below) |
 //!
 //! The measured table, with the reading of each row, is in the README ("Where the
-//! speed-ups fail — measured"); `cargo run --release -p rcg-lab --example stability` prints it.
+//! speed-ups fail — measured"); `cargo lab stability` prints it.
 //!
 //! # How a failure is attributed: target, control, base
 //! A scene "fails under" a target when the target's run shows the failure *and the same
@@ -227,7 +227,7 @@ pub struct StabilityCase {
     /// without it. 0 (the contact graph) unless the scene needs a switch to stand at all
     /// (the tower needs the cache: without warm start it falls whatever else is on).
     pub base: u8,
-    /// The failures measured with this crate and Rapier 0.36 (`examples/stability.rs`);
+    /// The failures measured with this crate and Rapier 0.36 (`rcg-lab stability`);
     /// `tests/stability_failures.rs` checks each. Empty: the scene does not fail under
     /// what it was built against.
     pub expected: &'static [Expectation],

@@ -366,7 +366,9 @@ fn frames_with_bad_bounds_views_handles_and_geometry() {
         let frame = no_panic(&format!("frame {i}"), || {
             renderer.render(&world, &|h| classes.shade(h), &"\u{0}é".repeat(300))
         });
-        assert!(frame.skipped() >= 2, "the NaN ball and the half-space");
+        // The NaN ball is left out and counted; the half-space is drawn as Rapier's
+        // debug render draws it (two 10 km lines, clipped to the picture).
+        assert!(frame.skipped() >= 1, "the NaN ball");
         assert_eq!(frame.rgb().len(), 200 * 160 * 3);
         assert_eq!(frame.pixel(200, 0), None);
         let _ = far;

@@ -31,7 +31,7 @@ use rcg_lab::stability::{self, Expectation, Failure, Outcome, StabilityCase, Tar
 
 /// Runs a case under a configuration (stock Rapier or the layer with speed-ups), with
 /// `validate()` after every step and the monitor in plain detection; samples the
-/// measured bodies every `SAMPLE_EVERY` steps, as the `stability` example does.
+/// measured bodies every `SAMPLE_EVERY` steps, as `rcg-lab stability` does.
 fn run(
     case: &StabilityCase,
     spec: &RunSpec,

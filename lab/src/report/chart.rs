@@ -1,56 +1,61 @@
-//! Layout: from points and a [`ChartSpec`] to a display list in pixel coordinates.
+//! The chart drawn with plotters: from points and a [`ChartSpec`] to any plotters
+//! back end (SVG text or an RGB bitmap).
 //!
-//! Everything that decides *where* things go lives here, so that the SVG and the
-//! PNG back ends only translate [`Item`]s. Coordinates are pixels with the origin at
-//! the top-left corner; the plot frame is snapped to whole pixels and one-pixel lines
-//! are drawn through pixel centres (`n + 0.5`) so that both back ends render them
-//! crisp. Text boxes are given by their top-left corner and sized with the bitmap
-//! font's metrics ([`font`]).
+//! plotters provides the coordinate system, the mesh (grid, ticks, tick labels, axis
+//! descriptions), the elements (paths, circles, polygons, rectangles, text) and the
+//! legend box; this module decides *what* goes where. Steps of [`draw`]: pick the
+//! drawable points; compute the front; choose axis ranges (padded data range, widened
+//! when degenerate) and "nice" ticks (1-2-5 steps; decades on a log axis), handed to
+//! plotters as fixed key points; size the margins from the tick labels; then draw, back
+//! to front: mesh and frame, the front's step line, the markers (violations first,
+//! special configurations last), the legend (in the plot corner it covers least), the
+//! labels (greedy placement), title and caption.
 //!
-//! Steps of [`layout`]: pick the drawable points; compute the front; choose axis
-//! ranges (padded data range, widened when degenerate) and "nice" ticks (1-2-5 steps;
-//! decades on a log axis); size the margins from the tick labels; then emit, back to
-//! front: grid, ticks and frame, the front's step line, the markers (violations
-//! first, special configurations last), the labels (greedy placement), the legend
-//! (in the emptiest corner), title, caption and axis labels.
+//! A log axis is drawn as a linear axis over log₁₀ of the values, its ticks at the
+//! logs of 1-2-5 values and labelled with the values: the tick choice stays ours
+//! (plotters' own log key points are sparse on short ranges) and both axes have one
+//! coordinate type.
 
-use super::{font, pareto_front, ChartPoint, ChartSpec, PointKind};
+use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::element::{Drawable, PointCollection};
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::{BackendCoord, DrawingErrorKind};
 
-/// An opaque sRGB colour.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Color {
-    pub r: u8,
-    pub g: u8,
-    pub b: u8,
-}
+use super::text;
+use super::{pareto_front, ChartPoint, ChartSpec, PointKind};
 
-impl Color {
-    /// From `0xRRGGBB`.
-    pub(crate) const fn hex(v: u32) -> Color {
-        Color {
-            r: (v >> 16) as u8,
-            g: (v >> 8) as u8,
-            b: v as u8,
-        }
-    }
-}
+const INK: RGBColor = RGBColor(0x22, 0x22, 0x22);
+const MUTED: RGBColor = RGBColor(0x66, 0x66, 0x66);
+const FRAME: RGBColor = RGBColor(0x44, 0x44, 0x44);
+const GRID_MAJOR: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
+const GRID_MINOR: RGBColor = RGBColor(0xF0, 0xF0, 0xF0);
+/// The Pareto front's line and rings.
+pub(crate) const FRONT: RGBColor = RGBColor(0xFF, 0x7F, 0x0E);
+/// The cross marking a point with violations.
+pub(crate) const VIOLATION: RGBColor = RGBColor(0xD6, 0x27, 0x28);
+const LEADER: RGBColor = RGBColor(0x99, 0x99, 0x99);
+const LEGEND_BORDER: RGBColor = RGBColor(0xBB, 0xBB, 0xBB);
 
-pub(crate) const WHITE: Color = Color::hex(0xFFFFFF);
-const INK: Color = Color::hex(0x222222);
-const MUTED: Color = Color::hex(0x666666);
-const FRAME: Color = Color::hex(0x444444);
-const GRID_MAJOR: Color = Color::hex(0xDDDDDD);
-const GRID_MINOR: Color = Color::hex(0xF0F0F0);
-const FRONT: Color = Color::hex(0xFF7F0E);
-const VIOLATION: Color = Color::hex(0xD62728);
-const LEADER: Color = Color::hex(0x999999);
-
-/// A line style.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Stroke {
-    pub color: Color,
-    pub width: f64,
-}
+// Font sizes (plotters' sizes: about ascender-to-descender in pixels).
+const TITLE_SIZE: f64 = 24.0;
+const AXIS_LABEL_SIZE: f64 = 19.0;
+const TICK_SIZE: f64 = 17.0;
+const SMALL_SIZE: f64 = 15.0;
+/// The points' labels: smaller than the legend's, there are many.
+const LABEL_SIZE: f64 = 13.5;
+/// No text is set smaller than this; what does not fit is cut with "...".
+const MIN_SIZE: f64 = 10.0;
+/// Labels longer than this are shortened with "...".
+const MAX_LABEL_CHARS: usize = 40;
+/// Largest magnitude an axis reaches (smallest positive value on a log axis: its
+/// inverse).
+const LIMIT: f64 = 1e150;
+/// Top of the title.
+const TITLE_Y: f64 = 10.0;
+/// Length of the tick marks outside the frame.
+const TICK_LEN: i32 = 5;
 
 /// Marker shapes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,14 +66,12 @@ pub(crate) enum Shape {
     TriangleUp,
     TriangleDown,
     Star,
-    /// An × made of two strokes (the fill is ignored).
-    Cross,
 }
 
 impl Shape {
     /// The outline of a polygonal shape centred on `(x, y)` with nominal radius `r`
     /// (sizes chosen so that all shapes look about as heavy as a circle of radius
-    /// `r`); `None` for the circle and the cross.
+    /// `r`); `None` for the circle.
     pub(crate) fn polygon(self, x: f64, y: f64, r: f64) -> Option<Vec<(f64, f64)>> {
         let regular = |n: usize, radius: f64, phase: f64| -> Vec<(f64, f64)> {
             (0..n)
@@ -80,7 +83,7 @@ impl Shape {
         };
         let up = -std::f64::consts::FRAC_PI_2;
         match self {
-            Shape::Circle | Shape::Cross => None,
+            Shape::Circle => None,
             Shape::Square => {
                 let s = r * 0.88;
                 Some(vec![
@@ -109,144 +112,590 @@ impl Shape {
             }
         }
     }
-
-    /// The two strokes of the cross.
-    pub(crate) fn cross_segments(x: f64, y: f64, r: f64) -> [[(f64, f64); 2]; 2] {
-        let s = r * 0.8;
-        [
-            [(x - s, y - s), (x + s, y + s)],
-            [(x - s, y + s), (x + s, y - s)],
-        ]
-    }
 }
 
-/// One element of the display list.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Item {
-    /// An axis-aligned rectangle.
-    Rect {
-        x: f64,
-        y: f64,
-        w: f64,
-        h: f64,
-        fill: Option<Color>,
-        /// Opacity of the fill, 0..=1.
-        opacity: f64,
-        stroke: Option<Stroke>,
-    },
-    /// A polyline with round joins and caps.
-    Line {
-        points: Vec<(f64, f64)>,
-        stroke: Stroke,
-    },
-    /// A data marker centred on `(x, y)`.
-    Marker {
-        shape: Shape,
-        x: f64,
-        y: f64,
-        r: f64,
-        fill: Option<Color>,
-        stroke: Option<Stroke>,
-    },
-    /// A closed polygon (even-odd fill), its outline centred on the edges.
-    Polygon {
-        points: Vec<(f64, f64)>,
-        fill: Option<Color>,
-        stroke: Option<Stroke>,
-    },
-    /// Text in the bitmap font at an integer scale; `(x, y)` is the top-left corner of
-    /// the box (capitals reach from `y` to `y + 7 * scale`). Vertical text reads
-    /// bottom to top, its box `9 * scale` wide and starting at the bottom.
-    Text {
-        x: f64,
-        y: f64,
-        text: String,
-        scale: u32,
-        color: Color,
-        vertical: bool,
-    },
-    /// Items that belong together; the SVG keeps the class and the tooltip.
-    Group {
-        class: &'static str,
-        tooltip: Option<String>,
-        items: Vec<Item>,
-    },
-}
-
-/// A laid-out chart.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Scene {
-    pub width: u32,
-    pub height: u32,
-    pub background: Color,
-    pub items: Vec<Item>,
-}
-
-// Text sizes (integer scales of the 5×9 font: scale 1 = 6 px per character).
-const TITLE_SCALE: u32 = 2;
-const AXIS_LABEL_SCALE: u32 = 2;
-const TICK_SCALE: u32 = 2;
-const SMALL_SCALE: u32 = 1;
-/// Labels longer than this are shortened with "...".
-const MAX_LABEL_CHARS: usize = 40;
-/// Largest magnitude an axis reaches (smallest positive value on a log axis: its
-/// inverse).
-const LIMIT: f64 = 1e150;
-
-/// How a kind is drawn: shape, fill colour and nominal radius.
-fn style(kind: PointKind) -> (Shape, Color, f64) {
+/// How a kind is drawn: shape, fill colour and nominal radius in pixels.
+pub(crate) fn style(kind: PointKind) -> (Shape, RGBColor, f64) {
     match kind {
-        PointKind::Reference => (Shape::Diamond, Color::hex(0x111111), 5.5),
-        PointKind::BruteForce => (Shape::Square, Color::hex(0x7F7F7F), 5.5),
-        PointKind::ContactGraph => (Shape::TriangleUp, Color::hex(0x2CA02C), 6.0),
-        PointKind::StockRapier => (Shape::TriangleDown, Color::hex(0x9467BD), 6.0),
-        PointKind::Combination => (Shape::Circle, Color::hex(0x1F77B4), 4.5),
-        PointKind::Repaired => (Shape::Star, Color::hex(0x17BECF), 6.0),
+        PointKind::Reference => (Shape::Diamond, RGBColor(0x11, 0x11, 0x11), 5.5),
+        PointKind::BruteForce => (Shape::Square, RGBColor(0x7F, 0x7F, 0x7F), 5.5),
+        PointKind::ContactGraph => (Shape::TriangleUp, RGBColor(0x2C, 0xA0, 0x2C), 6.0),
+        PointKind::StockRapier => (Shape::TriangleDown, RGBColor(0x94, 0x67, 0xBD), 6.0),
+        PointKind::Combination => (Shape::Circle, RGBColor(0x1F, 0x77, 0xB4), 4.5),
+        PointKind::Repaired => (Shape::Star, RGBColor(0x17, 0xBE, 0xCF), 6.0),
     }
 }
 
-/// A point's marker items: the kind's marker, or for a point with violations a red
-/// cross (over a hollow kind marker for the special kinds, so they stay recognisable).
-fn marker_items(kind: PointKind, violations: u64, x: f64, y: f64, out: &mut Vec<Item>) {
-    let (shape, color, r) = style(kind);
-    if violations == 0 {
-        let stroke = Some(Stroke {
-            color: WHITE,
-            width: 1.0,
-        });
-        out.push(Item::Marker {
-            shape,
-            x,
-            y,
-            r,
-            fill: Some(color),
-            stroke,
-        });
-        return;
+/// A point's marker as a plotters element at `at` (data coordinates on the chart,
+/// pixels in the legend): the kind's filled marker with a white rim, or for a point
+/// with violations a red cross (over a hollow kind marker for the special kinds, so
+/// they stay recognisable); ringed in orange when on the front. One element, so that
+/// the legend draws exactly what the plot does.
+pub(crate) struct Marker<C> {
+    at: C,
+    kind: PointKind,
+    violations: u64,
+    on_front: bool,
+}
+
+impl<C> Marker<C> {
+    fn new(at: C, kind: PointKind, violations: u64, on_front: bool) -> Self {
+        Marker {
+            at,
+            kind,
+            violations,
+            on_front,
+        }
     }
-    if kind != PointKind::Combination {
-        let stroke = Some(Stroke { color, width: 1.5 });
-        out.push(Item::Marker {
-            shape,
-            x,
-            y,
-            r: r + 1.0,
-            fill: None,
-            stroke,
-        });
+}
+
+impl<'a, C: 'a> PointCollection<'a, C> for &'a Marker<C> {
+    type Point = &'a C;
+    type IntoIter = std::iter::Once<&'a C>;
+    fn point_iter(self) -> Self::IntoIter {
+        std::iter::once(&self.at)
     }
-    let stroke = Some(Stroke {
-        color: VIOLATION,
-        width: 2.0,
-    });
-    out.push(Item::Marker {
-        shape: Shape::Cross,
-        x,
-        y,
-        r: 4.5,
-        fill: None,
-        stroke,
-    });
+}
+
+impl<C, DB: DrawingBackend> Drawable<DB> for Marker<C> {
+    fn draw<I: Iterator<Item = BackendCoord>>(
+        &self,
+        mut pos: I,
+        backend: &mut DB,
+        _: (u32, u32),
+    ) -> Result<(), DrawingErrorKind<DB::ErrorType>> {
+        let Some((px, py)) = pos.next() else {
+            return Ok(());
+        };
+        let (x, y) = (f64::from(px), f64::from(py));
+        let (shape, color, r) = style(self.kind);
+        let pixels = |poly: Vec<(f64, f64)>| -> Vec<BackendCoord> {
+            poly.into_iter()
+                .map(|(a, b)| (a.round() as i32, b.round() as i32))
+                .collect()
+        };
+        let closed = |mut poly: Vec<BackendCoord>| {
+            if let Some(&first) = poly.first() {
+                poly.push(first);
+            }
+            poly
+        };
+        if self.on_front {
+            let ring = (r + 3.5).round() as u32;
+            backend.draw_circle((px, py), ring, &FRONT.stroke_width(2), false)?;
+        }
+        if self.violations == 0 {
+            match shape.polygon(x, y, r) {
+                None => {
+                    let radius = r.round() as u32;
+                    backend.draw_circle((px, py), radius, &color.filled(), true)?;
+                    backend.draw_circle((px, py), radius, &WHITE.stroke_width(1), false)?;
+                }
+                Some(poly) => {
+                    let poly = pixels(poly);
+                    backend.fill_polygon(poly.clone(), &color.filled())?;
+                    backend.draw_path(closed(poly), &WHITE.stroke_width(1))?;
+                }
+            }
+            return Ok(());
+        }
+        if self.kind != PointKind::Combination {
+            match shape.polygon(x, y, r + 1.0) {
+                None => {
+                    let radius = (r + 1.0).round() as u32;
+                    backend.draw_circle((px, py), radius, &color.stroke_width(2), false)?;
+                }
+                Some(poly) => backend.draw_path(closed(pixels(poly)), &color.stroke_width(2))?,
+            }
+        }
+        let s = 4;
+        let cross = VIOLATION.stroke_width(2);
+        backend.draw_path([(px - s, py - s), (px + s, py + s)], &cross)?;
+        backend.draw_path([(px - s, py + s), (px + s, py - s)], &cross)?;
+        Ok(())
+    }
+}
+
+/// The chart's coordinate system: one linear axis per direction (see the module docs
+/// for the log axis).
+type Coords = Cartesian2d<Axis, Axis>;
+
+/// Draws the chart of `points` onto `root`, which must be `spec`'s size after
+/// clamping. Stops at the first error of the back end (none is expected: the SVG
+/// back end writes to a string, the bitmap one to memory); nothing here panics on
+/// data.
+pub(crate) fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    points: &[ChartPoint],
+    spec: &ChartSpec,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (width, height) = root.dim_in_pixel();
+    let (w, h) = (f64::from(width), f64::from(height));
+    root.fill(&WHITE)?;
+
+    let drawable = |p: &ChartPoint| p.is_finite() && (!spec.log_y || p.speedup > 0.0);
+    let visible: Vec<usize> = (0..points.len())
+        .filter(|&i| drawable(&points[i]))
+        .collect();
+    let front: Vec<usize> = pareto_front(points, true)
+        .into_iter()
+        .filter(|&i| drawable(&points[i]))
+        .collect();
+
+    // Title and the caption under it.
+    let (title, title_size) = text::fit(&text::clean(spec.title), TITLE_SIZE, MIN_SIZE, w - 24.0);
+    let caption_y = TITLE_Y + text::height(title_size) + 6.0;
+    let (caption, caption_size) = text::fit(
+        &caption(points, &visible, &front),
+        SMALL_SIZE,
+        MIN_SIZE,
+        w - 24.0,
+    );
+    let centred = |size: f64, color: &RGBColor| {
+        text::font(size)
+            .color(color)
+            .pos(Pos::new(HPos::Center, VPos::Top))
+    };
+    let mid = (w / 2.0).round() as i32;
+    if !title.is_empty() {
+        root.draw(&Text::new(
+            title,
+            (mid, TITLE_Y as i32),
+            centred(title_size, &INK),
+        ))?;
+    }
+    root.draw(&Text::new(
+        caption,
+        (mid, caption_y as i32),
+        centred(caption_size, &MUTED),
+    ))?;
+
+    // Axes, and the margins their text needs.
+    let (x_axis, y_axis) = axes(points, &visible, spec.log_y, w, h);
+    let tick_w = y_axis
+        .labels
+        .iter()
+        .map(|l| text::width(l, TICK_SIZE))
+        .fold(0.0, f64::max);
+    let axis_h = text::height(AXIS_LABEL_SIZE);
+    let tick_h = text::height(TICK_SIZE);
+    let top = (caption_y + text::height(caption_size) + 12.0).round();
+    // Label areas (tick marks, tick labels, gap, axis description), and outer margins.
+    let (outer_left, outer_bottom, right) = (10.0, 8.0, 24.0);
+    let left = (axis_h + 10.0 + tick_w + 8.0 + f64::from(TICK_LEN)).round();
+    let bottom = (f64::from(TICK_LEN) + 6.0 + tick_h + 8.0 + axis_h).round();
+    let (x_desc, x_desc_size) = text::fit(
+        &text::clean(spec.x_label),
+        AXIS_LABEL_SIZE,
+        MIN_SIZE,
+        (w - outer_left - left - right).max(1.0),
+    );
+    let (y_desc, y_desc_size) = text::fit(
+        &text::clean(spec.y_label),
+        AXIS_LABEL_SIZE,
+        MIN_SIZE,
+        (h - top - bottom - outer_bottom).max(1.0),
+    );
+
+    let mut chart = ChartBuilder::on(root)
+        .margin_top(top as i32)
+        .margin_right(right as i32)
+        .margin_left(outer_left as i32)
+        .margin_bottom(outer_bottom as i32)
+        .x_label_area_size(bottom as i32)
+        .y_label_area_size(left as i32)
+        .build_cartesian_2d(x_axis.clone(), y_axis.clone())?;
+    let mut mesh = chart.configure_mesh();
+    mesh.label_style(text::font(TICK_SIZE).color(&INK))
+        .axis_desc_style(text::font(AXIS_LABEL_SIZE).color(&INK))
+        .bold_line_style(GRID_MAJOR.stroke_width(1))
+        .light_line_style(GRID_MINOR.stroke_width(1))
+        .axis_style(FRAME.stroke_width(1))
+        .set_all_tick_mark_size(TICK_LEN);
+    if !x_desc.is_empty() {
+        mesh.x_desc(x_desc)
+            .axis_desc_style(text::font(x_desc_size.min(y_desc_size)).color(&INK));
+    }
+    if !y_desc.is_empty() {
+        mesh.y_desc(y_desc)
+            .axis_desc_style(text::font(x_desc_size.min(y_desc_size)).color(&INK));
+    }
+    mesh.draw()?;
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let plot = Bounds {
+        x0: f64::from(xs.start),
+        y0: f64::from(ys.start),
+        x1: f64::from(xs.end),
+        y1: f64::from(ys.end),
+    };
+    root.draw(&Rectangle::new(
+        [(xs.start, ys.start), (xs.end - 1, ys.end - 1)],
+        FRAME.stroke_width(1),
+    ))?;
+
+    // The front as a step line: from each point right to the next one's deviation,
+    // then up to its speed-up (the best speed-up available at that accuracy).
+    let at = |i: usize| {
+        (
+            x_axis.place(points[i].deviation),
+            y_axis.place(points[i].speedup),
+        )
+    };
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    for &i in &front {
+        let (x, y) = at(i);
+        if let Some(&(_, previous_y)) = steps.last() {
+            steps.push((x, previous_y));
+        }
+        steps.push((x, y));
+    }
+    let has_front = steps.len() >= 2;
+    if has_front {
+        chart.draw_series(std::iter::once(PathElement::new(
+            steps.clone(),
+            FRONT.stroke_width(3),
+        )))?;
+    }
+
+    // Markers, in drawing order: violations, then the rest, specials last (on top).
+    let layer = |p: &ChartPoint| match (p.kind.is_special(), p.violations > 0) {
+        (true, _) => 2,
+        (false, true) => 0,
+        (false, false) => 1,
+    };
+    let mut order = visible.clone();
+    order.sort_by_key(|&i| (layer(&points[i]), i));
+    chart.draw_series(order.iter().map(|&i| {
+        let p = &points[i];
+        Marker::new(at(i), p.kind, p.violations, front.contains(&i))
+    }))?;
+    let placed: Vec<Placed> = order
+        .iter()
+        .map(|&i| {
+            let (x, y) = chart.backend_coord(&at(i));
+            Placed {
+                index: i,
+                x: f64::from(x),
+                y: f64::from(y),
+                r: style(points[i].kind).2 + 2.0,
+            }
+        })
+        .collect();
+    let front_px: Vec<(f64, f64)> = steps
+        .iter()
+        .map(|s| {
+            let (x, y) = chart.backend_coord(s);
+            (f64::from(x), f64::from(y))
+        })
+        .collect();
+
+    // What the legend and the labels should not cover.
+    let obstacles = Obstacles::new(&placed, &front_px);
+    let mut taken = Vec::new();
+    if let Some(b) = legend(&mut chart, points, &visible, has_front, &plot, &obstacles)? {
+        taken.push(b);
+    }
+    // Labels: special configurations first, then the rest of the front.
+    let mut to_label: Vec<usize> = visible
+        .iter()
+        .copied()
+        .filter(|&i| points[i].kind.is_special())
+        .collect();
+    to_label.extend(
+        front
+            .iter()
+            .copied()
+            .filter(|&i| !points[i].kind.is_special()),
+    );
+    for i in to_label {
+        if let Some(p) = placed.iter().find(|p| p.index == i) {
+            label(root, &points[i].label, p, &plot, &obstacles, &mut taken)?;
+        }
+    }
+
+    if visible.is_empty() {
+        let (cx, cy) = ((plot.x0 + plot.x1) / 2.0, (plot.y0 + plot.y1) / 2.0);
+        let style = text::font(TITLE_SIZE)
+            .color(&MUTED)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        root.draw(&Text::new("no data", (cx as i32, cy as i32), style))?;
+    }
+    Ok(())
+}
+
+/// Axis ranges and ticks for the visible points, about one labelled tick per 110 px
+/// across and per 70 px up.
+fn axes(points: &[ChartPoint], visible: &[usize], log_y: bool, w: f64, h: f64) -> (Axis, Axis) {
+    let min_max = |f: &dyn Fn(&ChartPoint) -> f64| {
+        visible
+            .iter()
+            .map(|&i| f(&points[i]))
+            .fold(None, |acc: Option<(f64, f64)>, v| {
+                Some(acc.map_or((v, v), |(a, b)| (a.min(v), b.max(v))))
+            })
+    };
+    let x_target = ((w - 160.0) / 110.0).round().clamp(2.0, 12.0) as usize;
+    let y_target = ((h - 140.0) / 70.0).round().clamp(2.0, 10.0) as usize;
+    // Deviation and (on a linear axis) speed-up include 0. Ranges beyond ±1e150 (or
+    // 1e±150 on the log axis) are cut there, so that the padding and tick arithmetic
+    // cannot overflow; points beyond sit on the frame.
+    let (x_lo, x_hi) = min_max(&|p| p.deviation.clamp(-LIMIT, LIMIT)).unwrap_or((0.0, 1.0));
+    let x = Axis::linear(x_lo.min(0.0), x_hi.max(0.0), x_target);
+    let y = if log_y {
+        let (lo, hi) = min_max(&|p| p.speedup.clamp(1.0 / LIMIT, LIMIT)).unwrap_or((1.0, 10.0));
+        Axis::log(lo, hi, y_target)
+    } else {
+        let (lo, hi) = min_max(&|p| p.speedup.clamp(-LIMIT, LIMIT)).unwrap_or((0.0, 1.0));
+        Axis::linear(lo.min(0.0), hi.max(0.0), y_target)
+    };
+    (x, y)
+}
+
+/// Boxes around the markers and along the front line, for collision costs.
+struct Obstacles {
+    markers: Vec<Bounds>,
+    front: Vec<Bounds>,
+}
+
+impl Obstacles {
+    fn new(placed: &[Placed], steps: &[(f64, f64)]) -> Obstacles {
+        let markers = placed
+            .iter()
+            .map(|p| Bounds::around(p.x, p.y, p.r))
+            .collect();
+        // The front line as small boxes every ~6 px.
+        let front = steps
+            .windows(2)
+            .flat_map(|s| {
+                let ((x0, y0), (x1, y1)) = (s[0], s[1]);
+                let n = ((x1 - x0).abs().max((y1 - y0).abs()) / 6.0).ceil().max(1.0) as usize;
+                (0..=n).map(move |k| {
+                    let t = k as f64 / n as f64;
+                    Bounds::around(x0 + t * (x1 - x0), y0 + t * (y1 - y0), 2.0)
+                })
+            })
+            .collect();
+        Obstacles { markers, front }
+    }
+
+    /// Overlap of `b` with the markers (except `own`) and the front, weighted.
+    fn cost(&self, b: &Bounds, own: Option<&Bounds>, marker_weight: f64) -> f64 {
+        let markers: f64 = self
+            .markers
+            .iter()
+            .filter(|m| Some(*m) != own)
+            .map(|m| b.overlap(m))
+            .sum();
+        let front: f64 = self.front.iter().map(|m| b.overlap(m)).sum();
+        markers * marker_weight + front
+    }
+}
+
+/// The legend (kinds shown, violations, front) through plotters' series labels, in
+/// the plot corner it covers least; returns its box, `None` if there is nothing to
+/// explain.
+fn legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Coords>,
+    points: &[ChartPoint],
+    visible: &[usize],
+    has_front: bool,
+    plot: &Bounds,
+    obstacles: &Obstacles,
+) -> Result<Option<Bounds>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut entries: Vec<(Option<(PointKind, u64)>, &str)> = Vec::new();
+    for kind in PointKind::ALL {
+        // A kind is listed if its marker shows: combinations with violations are
+        // drawn as crosses only.
+        let shows = |p: &ChartPoint| {
+            p.kind == kind && (p.violations == 0 || kind != PointKind::Combination)
+        };
+        if visible.iter().any(|&i| shows(&points[i])) {
+            entries.push((Some((kind, 0)), kind.name()));
+        }
+    }
+    if visible.iter().any(|&i| points[i].violations > 0) {
+        entries.push((Some((PointKind::Combination, 1)), "with violations"));
+    }
+    if has_front {
+        entries.push((None, "Pareto front (0 violations)"));
+    }
+    if entries.is_empty() {
+        return Ok(None);
+    }
+
+    // The box plotters will draw: the lines' block, the symbol column, margins.
+    let label_style = text::font(SMALL_SIZE).color(&INK);
+    let mut block = MultiLineText::<_, &str>::new((0, 0), &label_style);
+    for (_, name) in &entries {
+        block.push_line(*name);
+    }
+    let (tw, th) = block
+        .estimate_dimension()
+        .unwrap_or((200, 18 * entries.len() as i32));
+    const SYMBOLS: i32 = 30;
+    const MARGIN: i32 = 6;
+    let (lw, lh) = (
+        f64::from(tw + SYMBOLS + 2 * MARGIN),
+        f64::from(th + 2 * MARGIN),
+    );
+    let inset = 8.0;
+    // Corners in order of preference; the area above-left of the front is empty by
+    // definition, so the top-left corner usually wins.
+    let corners = [
+        (plot.x0 + inset, plot.y0 + inset),
+        (plot.x1 - inset - lw, plot.y0 + inset),
+        (plot.x1 - inset - lw, plot.y1 - inset - lh),
+        (plot.x0 + inset, plot.y1 - inset - lh),
+    ];
+    let mut best: Option<(f64, Bounds)> = None;
+    for (x, y) in corners {
+        let b = Bounds::new(x.round(), y.round(), lw, lh);
+        let c = obstacles.cost(&b, None, 4.0);
+        if best.is_none_or(|(bc, _)| c < bc) {
+            best = Some((c, b));
+        }
+    }
+    let Some((_, b)) = best else {
+        return Ok(None);
+    };
+
+    // Legend-only series, in legend order; plotters draws their symbols at the
+    // left margin of the box: shifted right to the middle of the symbol column.
+    for (sample, name) in entries {
+        let anno = chart.draw_series(std::iter::empty::<Marker<(f64, f64)>>())?;
+        let anno = anno.label(name);
+        match sample {
+            Some((kind, violations)) => anno.legend(move |(x, y)| {
+                Marker::new((x + SYMBOLS / 2 - MARGIN, y), kind, violations, false).into_dyn()
+            }),
+            None => anno.legend(|(x, y)| {
+                let x = x + SYMBOLS / 2 - MARGIN;
+                PathElement::new(vec![(x - 11, y), (x + 11, y)], FRONT.stroke_width(3)).into_dyn()
+            }),
+        };
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::Coordinate(
+            (b.x0 - plot.x0) as i32,
+            (b.y0 - plot.y0) as i32,
+        ))
+        .legend_area_size(SYMBOLS)
+        .margin(MARGIN)
+        .label_font(label_style.clone())
+        .background_style(WHITE.mix(0.9))
+        .border_style(LEGEND_BORDER)
+        .draw()?;
+    Ok(Some(b))
+}
+
+/// A point's label, placed greedily: the candidate spot (east, west, the diagonals,
+/// north, south; at growing distances) with the least weighted overlap of labels
+/// already placed and the legend (`taken`), other markers and the front line, plus a
+/// penalty per step of distance; joined to the point by a leader line when pushed
+/// away. Nothing is drawn if no spot fits inside the plot.
+fn label<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    text_in: &str,
+    p: &Placed,
+    plot: &Bounds,
+    obstacles: &Obstacles,
+    taken: &mut Vec<Bounds>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let label = text::shorten(&text::clean(text_in), MAX_LABEL_CHARS);
+    if label.is_empty() {
+        return Ok(());
+    }
+    let (tw, th) = (
+        text::width(&label, LABEL_SIZE).ceil() + 2.0,
+        text::height(LABEL_SIZE) + 2.0,
+    );
+    let own = Bounds::around(p.x, p.y, p.r);
+    let area = plot.grow(-2.0);
+    let mut best: Option<(f64, Bounds, usize)> = None;
+    for level in 0..4 {
+        let gap = p.r + 2.0 + 14.0 * level as f64;
+        let diagonal = gap * 0.7;
+        let (cx, cy) = (p.x, p.y - th / 2.0);
+        let candidates = [
+            (cx + gap, cy),
+            (cx - gap - tw, cy),
+            (cx + diagonal, cy - diagonal - th / 2.0),
+            (cx + diagonal, cy + diagonal + th / 2.0),
+            (cx - diagonal - tw, cy - diagonal - th / 2.0),
+            (cx - diagonal - tw, cy + diagonal + th / 2.0),
+            (cx - tw / 2.0, cy - gap - th / 2.0),
+            (cx - tw / 2.0, cy + gap + th / 2.0),
+        ];
+        for (x, y) in candidates {
+            let b = Bounds::new(x.round(), y.round(), tw, th);
+            if !b.inside(&area) {
+                continue;
+            }
+            let c = taken.iter().map(|t| b.overlap(t)).sum::<f64>() * 20.0
+                + obstacles.cost(&b, Some(&own), 3.0)
+                + 60.0 * level as f64;
+            if best.is_none_or(|(bc, _, _)| c < bc) {
+                best = Some((c, b, level));
+            }
+        }
+    }
+    let Some((_, b, level)) = best else {
+        return Ok(());
+    };
+    taken.push(b.grow(1.0));
+    if level > 0 {
+        // Leader from the marker's edge to the nearest point of the label box.
+        let (nx, ny) = (p.x.clamp(b.x0, b.x1), p.y.clamp(b.y0, b.y1));
+        let (dx, dy) = (nx - p.x, ny - p.y);
+        let d = (dx * dx + dy * dy).sqrt().max(1e-9);
+        let start = (p.x + dx / d * (p.r - 1.0), p.y + dy / d * (p.r - 1.0));
+        root.draw(&PathElement::new(
+            vec![
+                (start.0.round() as i32, start.1.round() as i32),
+                (nx.round() as i32, ny.round() as i32),
+            ],
+            LEADER.stroke_width(1),
+        ))?;
+    }
+    root.draw(&Rectangle::new(
+        [(b.x0 as i32, b.y0 as i32), (b.x1 as i32, b.y1 as i32)],
+        WHITE.mix(0.75).filled(),
+    ))?;
+    let style = text::font(LABEL_SIZE)
+        .color(&INK)
+        .pos(Pos::new(HPos::Left, VPos::Top));
+    root.draw(&Text::new(label, (b.x0 as i32 + 1, b.y0 as i32 + 1), style))?;
+    Ok(())
+}
+
+/// A point that will be drawn, in pixels; `r` is the radius kept clear around it.
+struct Placed {
+    index: usize,
+    x: f64,
+    y: f64,
+    r: f64,
+}
+
+/// The line under the title: counts, so that left-out points are not silent.
+fn caption(points: &[ChartPoint], visible: &[usize], front: &[usize]) -> String {
+    let violating = visible
+        .iter()
+        .filter(|&&i| points[i].violations > 0)
+        .count();
+    let mut s = format!(
+        "{} configurations, {} with violations, {} on the front",
+        visible.len(),
+        violating,
+        front.len()
+    );
+    let skipped = points.len() - visible.len();
+    if skipped > 0 {
+        s.push_str(&format!(
+            ", {skipped} not drawn (not finite / not > 0 on a log axis)"
+        ));
+    }
+    s
 }
 
 /// An axis: data domain, mapping and ticks.
@@ -300,13 +749,86 @@ impl Axis {
         }
     }
 
-    /// Where `v` falls between the ends, 0..1.
-    fn fraction(&self, v: f64) -> f64 {
+    /// `v` in the axis' drawing space: itself, or its log₁₀ on a log axis.
+    fn to_space(&self, v: f64) -> f64 {
         if self.log {
-            (v.log10() - self.lo.log10()) / (self.hi.log10() - self.lo.log10())
+            v.log10()
         } else {
-            (v - self.lo) / (self.hi - self.lo)
+            v
         }
+    }
+
+    /// The ends in drawing space.
+    fn span(&self) -> (f64, f64) {
+        (self.to_space(self.lo), self.to_space(self.hi))
+    }
+
+    /// `v` in drawing space, pinned to the ends (values beyond the axis sit on the
+    /// frame).
+    fn place(&self, v: f64) -> f64 {
+        let (a, b) = self.span();
+        self.to_space(v).clamp(a.min(b), a.max(b))
+    }
+
+    /// The label of the tick at `v` (drawing space; plotters hands back the key points
+    /// it was given), or the nearest tick's.
+    fn label(&self, v: f64) -> String {
+        self.major
+            .iter()
+            .zip(&self.labels)
+            .min_by(|a, b| {
+                (self.to_space(*a.0) - v)
+                    .abs()
+                    .total_cmp(&(self.to_space(*b.0) - v).abs())
+            })
+            .map(|(_, l)| l.clone())
+            .unwrap_or_default()
+    }
+}
+
+/// An axis is a plotters coordinate over its drawing space: the labelled ticks are its
+/// bold key points, the unlabelled ones its light (grid-only) points.
+impl Ranged for Axis {
+    type FormatOption = NoDefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        // As plotters' own f64 coordinate, with non-finite fractions pinned.
+        let (a, b) = self.span();
+        let fraction = (v - a) / (b - a);
+        let length = limit.1 - limit.0;
+        if !fraction.is_finite() || length == 0 {
+            return if fraction.is_sign_negative() {
+                limit.0
+            } else {
+                limit.1
+            };
+        }
+        limit.0 + (f64::from(length) * fraction + 1e-3).floor() as i32
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        let points = if hint.weight().allow_light_points() {
+            &self.minor
+        } else {
+            &self.major
+        };
+        points.iter().map(|&v| self.to_space(v)).collect()
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        let (a, b) = self.span();
+        a..b
+    }
+}
+
+impl ValueFormatter<f64> for Axis {
+    fn format(v: &f64) -> String {
+        format!("{v}")
+    }
+
+    fn format_ext(&self, v: &f64) -> String {
+        self.label(*v)
     }
 }
 
@@ -478,618 +1000,6 @@ impl Bounds {
     }
 }
 
-/// Size in pixels of a text box at `scale` (height includes descenders).
-fn text_size(text: &str, scale: u32) -> (f64, f64) {
-    (
-        f64::from(font::text_width(text) * scale),
-        f64::from(font::HEIGHT * scale),
-    )
-}
-
-/// `text` cut to at most `max` characters, ending in "..." when cut.
-fn shorten(text: &str, max: usize) -> String {
-    if text.chars().count() <= max {
-        text.to_string()
-    } else {
-        let mut s: String = text.chars().take(max.saturating_sub(3)).collect();
-        s.push_str("...");
-        s
-    }
-}
-
-/// The largest scale (≤ `scale`) at which `text` fits in `room` pixels, with the
-/// text shortened if it fits at no scale.
-fn fit(text: &str, scale: u32, room: f64) -> (String, u32) {
-    for s in (1..=scale).rev() {
-        if text_size(text, s).0 <= room {
-            return (text.to_string(), s);
-        }
-    }
-    let chars = (room / f64::from(font::ADVANCE)).floor().max(4.0) as usize;
-    (shorten(text, chars), 1)
-}
-
-fn text(x: f64, y: f64, text: impl Into<String>, scale: u32, color: Color) -> Item {
-    Item::Text {
-        x,
-        y,
-        text: text.into(),
-        scale,
-        color,
-        vertical: false,
-    }
-}
-
-fn line(a: (f64, f64), b: (f64, f64), color: Color, width: f64) -> Item {
-    Item::Line {
-        points: vec![a, b],
-        stroke: Stroke { color, width },
-    }
-}
-
-/// A point that will be drawn, in pixels; `r` is the radius kept clear around it.
-struct Placed {
-    index: usize,
-    x: f64,
-    y: f64,
-    r: f64,
-}
-
-/// The plot area and the axes that map data into it.
-struct Frame {
-    plot: Bounds,
-    x: Axis,
-    y: Axis,
-}
-
-impl Frame {
-    /// Pixel column of deviation `v` (values beyond the axis are pinned to the frame).
-    fn px(&self, v: f64) -> f64 {
-        self.plot.x0 + self.x.fraction(v).clamp(0.0, 1.0) * (self.plot.x1 - self.plot.x0)
-    }
-    /// Pixel row of speed-up `v`.
-    fn py(&self, v: f64) -> f64 {
-        self.plot.y1 - self.y.fraction(v).clamp(0.0, 1.0) * (self.plot.y1 - self.plot.y0)
-    }
-}
-
-/// Top of the title and of the caption under it.
-const TITLE_Y: f64 = 12.0;
-const CAPTION_Y: f64 = TITLE_Y + (font::HEIGHT * TITLE_SCALE) as f64 + 4.0;
-/// Length of the tick marks outside the frame.
-const TICK_LEN: f64 = 5.0;
-
-/// Lays out the chart.
-pub(crate) fn layout(points: &[ChartPoint], spec: &ChartSpec) -> Scene {
-    let width = spec.width.clamp(320, 8192);
-    let height = spec.height.clamp(240, 8192);
-    let (w, h) = (f64::from(width), f64::from(height));
-
-    let drawable = |p: &ChartPoint| p.is_finite() && (!spec.log_y || p.speedup > 0.0);
-    let visible: Vec<usize> = (0..points.len())
-        .filter(|&i| drawable(&points[i]))
-        .collect();
-    let front: Vec<usize> = pareto_front(points, true)
-        .into_iter()
-        .filter(|&i| drawable(&points[i]))
-        .collect();
-
-    let frame = frame(points, &visible, spec.log_y, w, h);
-    let mut items = vec![axes(&frame)];
-
-    // The front as a step line: from each point right to the next one's deviation,
-    // then up to its speed-up (the best speed-up available at that accuracy).
-    let mut steps: Vec<(f64, f64)> = Vec::new();
-    for &i in &front {
-        let (x, y) = (frame.px(points[i].deviation), frame.py(points[i].speedup));
-        if let Some(&(_, previous_y)) = steps.last() {
-            steps.push((x, previous_y));
-        }
-        steps.push((x, y));
-    }
-    let has_front = steps.len() >= 2;
-    if has_front {
-        items.push(Item::Group {
-            class: "front",
-            tooltip: Some("Pareto front over the configurations without violations".into()),
-            items: vec![Item::Line {
-                points: steps.clone(),
-                stroke: Stroke {
-                    color: FRONT,
-                    width: 2.5,
-                },
-            }],
-        });
-    }
-
-    // Markers, in drawing order: violations, then the rest, specials last (on top).
-    let layer = |p: &ChartPoint| match (p.kind.is_special(), p.violations > 0) {
-        (true, _) => 2,
-        (false, true) => 0,
-        (false, false) => 1,
-    };
-    let mut order = visible.clone();
-    order.sort_by_key(|&i| (layer(&points[i]), i));
-    let placed: Vec<Placed> = order
-        .iter()
-        .map(|&i| Placed {
-            index: i,
-            x: frame.px(points[i].deviation),
-            y: frame.py(points[i].speedup),
-            r: style(points[i].kind).2 + 2.0,
-        })
-        .collect();
-    for p in &placed {
-        let point = &points[p.index];
-        let on_front = front.contains(&p.index);
-        let mut marker = Vec::new();
-        if on_front {
-            let stroke = Some(Stroke {
-                color: FRONT,
-                width: 1.5,
-            });
-            let r = style(point.kind).2 + 3.5;
-            marker.push(Item::Marker {
-                shape: Shape::Circle,
-                x: p.x,
-                y: p.y,
-                r,
-                fill: None,
-                stroke,
-            });
-        }
-        marker_items(point.kind, point.violations, p.x, p.y, &mut marker);
-        items.push(Item::Group {
-            class: "point",
-            tooltip: Some(tooltip(point, on_front)),
-            items: marker,
-        });
-    }
-
-    // What the legend and the labels should not cover.
-    let obstacles = Obstacles::new(&placed, &steps);
-    let mut taken = Vec::new();
-    if let Some((legend, bounds)) = legend(points, &visible, has_front, &frame.plot, &obstacles) {
-        items.push(legend);
-        taken.push(bounds);
-    }
-    // Labels: special configurations first, then the rest of the front.
-    let mut to_label: Vec<usize> = visible
-        .iter()
-        .copied()
-        .filter(|&i| points[i].kind.is_special())
-        .collect();
-    to_label.extend(
-        front
-            .iter()
-            .copied()
-            .filter(|&i| !points[i].kind.is_special()),
-    );
-    for i in to_label {
-        if let Some(p) = placed.iter().find(|p| p.index == i) {
-            items.extend(label(
-                &points[i].label,
-                p,
-                &frame.plot,
-                &obstacles,
-                &mut taken,
-            ));
-        }
-    }
-
-    if visible.is_empty() {
-        let msg = "no data";
-        let (tw, th) = text_size(msg, 2);
-        let (cx, cy) = (
-            (frame.plot.x0 + frame.plot.x1) / 2.0,
-            (frame.plot.y0 + frame.plot.y1) / 2.0,
-        );
-        items.push(text(
-            (cx - tw / 2.0).round(),
-            (cy - th / 2.0).round(),
-            msg,
-            2,
-            MUTED,
-        ));
-    }
-    items.extend(titles(
-        spec,
-        &caption(points, &visible, &front),
-        &frame.plot,
-        w,
-        h,
-    ));
-    Scene {
-        width,
-        height,
-        background: WHITE,
-        items,
-    }
-}
-
-/// Axis ranges and ticks, and the plot area left by the margins' text.
-fn frame(points: &[ChartPoint], visible: &[usize], log_y: bool, w: f64, h: f64) -> Frame {
-    let min_max = |f: &dyn Fn(&ChartPoint) -> f64| {
-        visible
-            .iter()
-            .map(|&i| f(&points[i]))
-            .fold(None, |acc: Option<(f64, f64)>, v| {
-                Some(acc.map_or((v, v), |(a, b)| (a.min(v), b.max(v))))
-            })
-    };
-    let x_target = ((w - 160.0) / 110.0).round().clamp(2.0, 12.0) as usize;
-    let y_target = ((h - 140.0) / 70.0).round().clamp(2.0, 10.0) as usize;
-    // Deviation and (on a linear axis) speed-up include 0. Ranges beyond ±1e150 (or
-    // 1e±150 on the log axis) are cut there, so that the padding and tick arithmetic
-    // cannot overflow; points beyond sit on the frame.
-    let (x_lo, x_hi) = min_max(&|p| p.deviation.clamp(-LIMIT, LIMIT)).unwrap_or((0.0, 1.0));
-    let x = Axis::linear(x_lo.min(0.0), x_hi.max(0.0), x_target);
-    let y = if log_y {
-        let (lo, hi) = min_max(&|p| p.speedup.clamp(1.0 / LIMIT, LIMIT)).unwrap_or((1.0, 10.0));
-        Axis::log(lo, hi, y_target)
-    } else {
-        let (lo, hi) = min_max(&|p| p.speedup.clamp(-LIMIT, LIMIT)).unwrap_or((0.0, 1.0));
-        Axis::linear(lo.min(0.0), hi.max(0.0), y_target)
-    };
-
-    // Left: y label (vertical), y tick labels, ticks. Bottom: ticks, x tick labels,
-    // x label. Top: title and caption.
-    let axis_label_h = f64::from(font::HEIGHT * AXIS_LABEL_SCALE);
-    let tick_label_h = f64::from(font::CAP_HEIGHT * TICK_SCALE);
-    let y_tick_w = y
-        .labels
-        .iter()
-        .map(|l| text_size(l, TICK_SCALE).0)
-        .fold(0.0, f64::max);
-    let plot = Bounds {
-        x0: (12.0 + axis_label_h + 10.0 + y_tick_w + 6.0 + TICK_LEN).round(),
-        y0: (CAPTION_Y + f64::from(font::HEIGHT * SMALL_SCALE) + 10.0).round(),
-        x1: w - 24.0,
-        y1: (h - (TICK_LEN + 6.0 + tick_label_h + 12.0 + axis_label_h + 10.0)).round(),
-    };
-    Frame { plot, x, y }
-}
-
-/// Grid lines, ticks, tick labels and the frame.
-fn axes(frame: &Frame) -> Item {
-    let Frame {
-        plot,
-        x: x_axis,
-        y: y_axis,
-    } = frame;
-    let mut items = Vec::new();
-    for &v in &y_axis.minor {
-        let y = frame.py(v).round() + 0.5;
-        items.push(line((plot.x0, y), (plot.x1, y), GRID_MINOR, 1.0));
-    }
-    let tick_label_h = f64::from(font::CAP_HEIGHT * TICK_SCALE);
-    for (&v, label) in x_axis.major.iter().zip(&x_axis.labels) {
-        let x = frame.px(v).round() + 0.5;
-        items.push(line((x, plot.y0), (x, plot.y1), GRID_MAJOR, 1.0));
-        items.push(line((x, plot.y1), (x, plot.y1 + TICK_LEN), FRAME, 1.0));
-        let tx = (x - text_size(label, TICK_SCALE).0 / 2.0).round();
-        items.push(text(
-            tx,
-            plot.y1 + TICK_LEN + 6.0,
-            label.clone(),
-            TICK_SCALE,
-            INK,
-        ));
-    }
-    for (&v, label) in y_axis.major.iter().zip(&y_axis.labels) {
-        let y = frame.py(v).round() + 0.5;
-        items.push(line((plot.x0, y), (plot.x1, y), GRID_MAJOR, 1.0));
-        items.push(line((plot.x0 - TICK_LEN, y), (plot.x0, y), FRAME, 1.0));
-        let tx = plot.x0 - TICK_LEN - 6.0 - text_size(label, TICK_SCALE).0;
-        items.push(text(
-            tx,
-            (y - tick_label_h / 2.0).round(),
-            label.clone(),
-            TICK_SCALE,
-            INK,
-        ));
-    }
-    items.push(Item::Rect {
-        x: plot.x0 + 0.5,
-        y: plot.y0 + 0.5,
-        w: plot.x1 - plot.x0 - 1.0,
-        h: plot.y1 - plot.y0 - 1.0,
-        fill: None,
-        opacity: 1.0,
-        stroke: Some(Stroke {
-            color: FRAME,
-            width: 1.0,
-        }),
-    });
-    Item::Group {
-        class: "axes",
-        tooltip: None,
-        items,
-    }
-}
-
-/// Boxes around the markers and along the front line, for collision costs.
-struct Obstacles {
-    markers: Vec<Bounds>,
-    front: Vec<Bounds>,
-}
-
-impl Obstacles {
-    fn new(placed: &[Placed], steps: &[(f64, f64)]) -> Obstacles {
-        let markers = placed
-            .iter()
-            .map(|p| Bounds::around(p.x, p.y, p.r))
-            .collect();
-        // The front line as small boxes every ~6 px.
-        let front = steps
-            .windows(2)
-            .flat_map(|s| {
-                let ((x0, y0), (x1, y1)) = (s[0], s[1]);
-                let n = ((x1 - x0).abs().max((y1 - y0).abs()) / 6.0).ceil().max(1.0) as usize;
-                (0..=n).map(move |k| {
-                    let t = k as f64 / n as f64;
-                    Bounds::around(x0 + t * (x1 - x0), y0 + t * (y1 - y0), 2.0)
-                })
-            })
-            .collect();
-        Obstacles { markers, front }
-    }
-
-    /// Overlap of `b` with the markers (except `own`) and the front, weighted.
-    fn cost(&self, b: &Bounds, own: Option<&Bounds>, marker_weight: f64) -> f64 {
-        let markers: f64 = self
-            .markers
-            .iter()
-            .filter(|m| Some(*m) != own)
-            .map(|m| b.overlap(m))
-            .sum();
-        let front: f64 = self.front.iter().map(|m| b.overlap(m)).sum();
-        markers * marker_weight + front
-    }
-}
-
-/// The legend (kinds shown, violations, front) in the plot corner it covers least;
-/// `None` if there is nothing to explain.
-fn legend(
-    points: &[ChartPoint],
-    visible: &[usize],
-    has_front: bool,
-    plot: &Bounds,
-    obstacles: &Obstacles,
-) -> Option<(Item, Bounds)> {
-    let mut entries: Vec<(Option<(PointKind, u64)>, &str)> = Vec::new();
-    for kind in PointKind::ALL {
-        // A kind is listed if its marker shows: combinations with violations are
-        // drawn as crosses only.
-        let shows = |p: &ChartPoint| {
-            p.kind == kind && (p.violations == 0 || kind != PointKind::Combination)
-        };
-        if visible.iter().any(|&i| shows(&points[i])) {
-            entries.push((Some((kind, 0)), kind.name()));
-        }
-    }
-    if visible.iter().any(|&i| points[i].violations > 0) {
-        entries.push((Some((PointKind::Combination, 1)), "with violations"));
-    }
-    if has_front {
-        entries.push((None, "Pareto front (0 violations)"));
-    }
-    if entries.is_empty() {
-        return None;
-    }
-
-    let row = 16.0;
-    let text_w = entries
-        .iter()
-        .map(|(_, t)| text_size(t, SMALL_SCALE).0)
-        .fold(0.0, f64::max);
-    let (lw, lh) = (
-        (8.0 + 24.0 + 6.0 + text_w + 10.0).round(),
-        8.0 + row * entries.len() as f64,
-    );
-    let inset = 8.0;
-    // Corners in order of preference; the area above-left of the front is empty by
-    // definition, so the top-left corner usually wins.
-    let corners = [
-        (plot.x0 + inset, plot.y0 + inset),
-        (plot.x1 - inset - lw, plot.y0 + inset),
-        (plot.x1 - inset - lw, plot.y1 - inset - lh),
-        (plot.x0 + inset, plot.y1 - inset - lh),
-    ];
-    let mut best: Option<(f64, Bounds)> = None;
-    for (x, y) in corners {
-        let b = Bounds::new(x.round(), y.round(), lw, lh);
-        let c = obstacles.cost(&b, None, 4.0);
-        if best.is_none_or(|(bc, _)| c < bc) {
-            best = Some((c, b));
-        }
-    }
-    let (_, b) = best?;
-
-    let mut items = vec![Item::Rect {
-        x: b.x0 + 0.5,
-        y: b.y0 + 0.5,
-        w: lw,
-        h: lh,
-        fill: Some(WHITE),
-        opacity: 0.9,
-        stroke: Some(Stroke {
-            color: Color::hex(0xBBBBBB),
-            width: 1.0,
-        }),
-    }];
-    for (k, (sample, label)) in entries.iter().enumerate() {
-        let cy = b.y0 + 4.0 + row * (k as f64 + 0.5);
-        let sx = b.x0 + 8.0 + 12.0;
-        match sample {
-            Some((kind, violations)) => marker_items(*kind, *violations, sx, cy, &mut items),
-            None => items.push(line((sx - 11.0, cy), (sx + 11.0, cy), FRONT, 2.5)),
-        }
-        let ty = (cy - f64::from(font::CAP_HEIGHT * SMALL_SCALE) / 2.0).round();
-        items.push(text(b.x0 + 8.0 + 24.0 + 6.0, ty, *label, SMALL_SCALE, INK));
-    }
-    Some((
-        Item::Group {
-            class: "legend",
-            tooltip: None,
-            items,
-        },
-        b,
-    ))
-}
-
-/// A point's label, placed greedily: the candidate spot (east, west, the diagonals,
-/// north, south; at growing distances) with the least weighted overlap of labels
-/// already placed and the legend (`taken`), other markers and the front line, plus a
-/// penalty per step of distance; joined to the point by a leader line when pushed
-/// away. Nothing is drawn if no spot fits inside the plot.
-fn label(
-    text_in: &str,
-    p: &Placed,
-    plot: &Bounds,
-    obstacles: &Obstacles,
-    taken: &mut Vec<Bounds>,
-) -> Option<Item> {
-    let label = shorten(text_in, MAX_LABEL_CHARS);
-    if label.is_empty() {
-        return None;
-    }
-    let (tw, th) = text_size(&label, SMALL_SCALE);
-    let own = Bounds::around(p.x, p.y, p.r);
-    let area = plot.grow(-2.0);
-    let mut best: Option<(f64, Bounds, usize)> = None;
-    for level in 0..4 {
-        let gap = p.r + 2.0 + 14.0 * level as f64;
-        let diagonal = gap * 0.7;
-        let (cx, cy) = (p.x, p.y - th / 2.0 + 1.0);
-        let candidates = [
-            (cx + gap, cy),
-            (cx - gap - tw, cy),
-            (cx + diagonal, cy - diagonal - th / 2.0),
-            (cx + diagonal, cy + diagonal + th / 2.0),
-            (cx - diagonal - tw, cy - diagonal - th / 2.0),
-            (cx - diagonal - tw, cy + diagonal + th / 2.0),
-            (cx - tw / 2.0, cy - gap - th / 2.0),
-            (cx - tw / 2.0, cy + gap + th / 2.0),
-        ];
-        for (x, y) in candidates {
-            let b = Bounds::new(x.round(), y.round(), tw, th).grow(1.0);
-            if !b.inside(&area) {
-                continue;
-            }
-            let c = taken.iter().map(|t| b.overlap(t)).sum::<f64>() * 20.0
-                + obstacles.cost(&b, Some(&own), 3.0)
-                + 60.0 * level as f64;
-            if best.is_none_or(|(bc, _, _)| c < bc) {
-                best = Some((c, b, level));
-            }
-        }
-    }
-    let (_, b, level) = best?;
-    taken.push(b.grow(1.0));
-    let mut items = Vec::new();
-    if level > 0 {
-        // Leader from the marker's edge to the nearest point of the label box.
-        let (nx, ny) = (p.x.clamp(b.x0, b.x1), p.y.clamp(b.y0, b.y1));
-        let (dx, dy) = (nx - p.x, ny - p.y);
-        let d = (dx * dx + dy * dy).sqrt().max(1e-9);
-        let start = (p.x + dx / d * (p.r - 1.0), p.y + dy / d * (p.r - 1.0));
-        items.push(line(start, (nx, ny), LEADER, 1.0));
-    }
-    items.push(Item::Rect {
-        x: b.x0,
-        y: b.y0,
-        w: b.x1 - b.x0,
-        h: b.y1 - b.y0,
-        fill: Some(WHITE),
-        opacity: 0.75,
-        stroke: None,
-    });
-    items.push(text(b.x0 + 1.0, b.y0 + 1.0, label, SMALL_SCALE, INK));
-    Some(Item::Group {
-        class: "label",
-        tooltip: None,
-        items,
-    })
-}
-
-/// Title, caption and axis labels, each at the largest scale that fits.
-fn titles(spec: &ChartSpec, caption: &str, plot: &Bounds, w: f64, h: f64) -> Vec<Item> {
-    let mut items = Vec::new();
-    let (title, ts) = fit(spec.title, TITLE_SCALE, w - 24.0);
-    let tw = text_size(&title, ts).0;
-    items.push(text(((w - tw) / 2.0).round(), TITLE_Y, title, ts, INK));
-    let (caption, cs) = fit(caption, SMALL_SCALE, w - 24.0);
-    let cw = text_size(&caption, cs).0;
-    items.push(text(
-        ((w - cw) / 2.0).round(),
-        CAPTION_Y,
-        caption,
-        cs,
-        MUTED,
-    ));
-    let (xl, xs) = fit(spec.x_label, AXIS_LABEL_SCALE, plot.x1 - plot.x0);
-    let xw = text_size(&xl, xs).0;
-    let xy = h - 10.0 - f64::from(font::HEIGHT * xs);
-    items.push(text(
-        ((plot.x0 + plot.x1 - xw) / 2.0).round(),
-        xy,
-        xl,
-        xs,
-        INK,
-    ));
-    let (yl, ys) = fit(spec.y_label, AXIS_LABEL_SCALE, plot.y1 - plot.y0);
-    let yh = text_size(&yl, ys).0;
-    items.push(Item::Text {
-        x: 12.0,
-        y: ((plot.y0 + plot.y1 - yh) / 2.0).round(),
-        text: yl,
-        scale: ys,
-        color: INK,
-        vertical: true,
-    });
-    items
-}
-
-/// The SVG tooltip of a point.
-fn tooltip(p: &ChartPoint, on_front: bool) -> String {
-    format!(
-        "{} ({}): deviation {:.4} radii, speed-up {:.3}x, {} violation{}{}",
-        p.label,
-        p.kind.name(),
-        p.deviation,
-        p.speedup,
-        p.violations,
-        if p.violations == 1 { "" } else { "s" },
-        if on_front {
-            ", on the Pareto front"
-        } else {
-            ""
-        }
-    )
-}
-
-/// The line under the title: counts, so that left-out points are not silent.
-fn caption(points: &[ChartPoint], visible: &[usize], front: &[usize]) -> String {
-    let violating = visible
-        .iter()
-        .filter(|&&i| points[i].violations > 0)
-        .count();
-    let mut s = format!(
-        "{} configurations, {} with violations, {} on the front",
-        visible.len(),
-        violating,
-        front.len()
-    );
-    let skipped = points.len() - visible.len();
-    if skipped > 0 {
-        s.push_str(&format!(
-            ", {skipped} not drawn (not finite / not > 0 on a log axis)"
-        ));
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1129,5 +1039,13 @@ mod tests {
         assert_eq!(widen(2.0, 2.0), (1.0, 3.0));
         let a = Axis::log(3.0, 3.0, 6);
         assert!(a.lo < 3.0 && a.hi > 3.0 && a.major.len() >= 2);
+        // Drawn in log space, labelled with the values.
+        let (lo, hi) = a.span();
+        assert!(a.place(3.0) > lo && a.place(3.0) < hi);
+        assert_eq!(a.place(1e9), hi);
+        assert_eq!(a.label(a.to_space(a.major[0])), a.labels[0]);
+        assert_eq!(a.range(), lo..hi);
+        assert_eq!(a.map(&lo, (10, 110)), 10);
+        assert_eq!(a.map(&hi, (10, 110)), 110);
     }
 }

@@ -1,39 +1,53 @@
-//! Charts of the speed-versus-accuracy run (design brief §5 and §7), without
-//! dependencies.
+//! Charts of the speed-versus-accuracy run (design brief §5 and §7) and frames of a
+//! scene, drawn with well-kept libraries.
 //!
 //! The main job measures every configuration (reference, brute force, contact graph,
 //! the 2^7 speed-up combinations, stock Rapier) as a [`ChartPoint`]: how far its
 //! trajectories drift from the reference (`deviation`, in sphere radii, lower is
 //! better), how much faster it runs than brute force (`speedup`, higher is better),
 //! and how many plausibility violations it produced. [`pareto_front`] picks the
-//! configurations nothing beats on both axes; [`svg`] and [`png`] draw the scatter
+//! configurations nothing beats on both axes; [`svg()`] and [`png()`] draw the scatter
 //! chart with that front.
 //!
-//! [`frames`] draws pictures of a scene with the same machinery: PNG frames of a
-//! Rapier world with every body coloured by its state, as in the paper's Fig. 17.
+//! [`frames`] draws pictures of a scene: what Rapier's own debug renderer draws, each
+//! collider's lines in the colour of its body's state, as in the paper's Fig. 17.
 //!
 //! # Design
-//! - **One layout, two back ends.** `chart` turns the points and the [`ChartSpec`]
-//!   into a display list in pixel coordinates (lines, markers, text boxes): axis
-//!   ranges and "nice" ticks, the front as a step line, label placement, the legend.
-//!   `svg` serialises that list as SVG text; `raster` paints it into an RGB buffer
-//!   that `png` encodes. Both pictures therefore agree to the pixel on where things
-//!   are; only text is set by the viewer's monospace font in SVG and by the built-in
-//!   5×9 bitmap font (`font`) in PNG, with the same advance (6 px per character at
-//!   scale 1).
-//! - **No dependencies.** Rasterisation uses signed distances with a one-pixel
-//!   antialiasing ramp (lines are capsules, markers are circles or polygons); the PNG
-//!   is written with stored deflate blocks, CRC-32 and Adler-32 done here.
-//! - **Deterministic.** No hashing, no clocks, no threads; numbers in the SVG are
-//!   printed with fixed precision. Same input, same bytes.
+//! Until issue 13 this module drew with its own hand-written chart layout, SVG writer,
+//! anti-aliasing rasteriser, 5×9 bitmap font and PNG encoder (stored deflate blocks:
+//! a chart was 1.9 MB). Each is now a library's job:
+//! - **[plotters]** draws the chart: coordinate system, mesh (grid, ticks, tick
+//!   labels, axis descriptions), elements and the legend box, on its SVG back end
+//!   (text) and its bitmap back end (an RGB buffer). One drawing routine serves both,
+//!   so the two pictures agree on where things are. What stays here is the chart's
+//!   content: which points are drawable, the front, the axis ranges and 1-2-5 ticks
+//!   (handed to plotters as fixed key points), the markers (one plotters element per
+//!   point, also used by the legend), where the legend and the labels go. Given up
+//!   with the hand-written SVG: a tooltip per point (plotters' SVG back end writes
+//!   no groups or titles). Rejected: `charming` (renders PNG through a JavaScript
+//!   runtime), `poloto` (SVG only) and `plotly` (HTML and JavaScript).
+//! - **Text** is DejaVu Sans from the `dejavu` crate, rasterised by plotters'
+//!   `ab_glyph` back end (pure Rust). plotters' default `ttf` back end goes through
+//!   `font-kit`, which needs the system's fontconfig and FreeType, absent on a CI
+//!   machine with only a Rust toolchain (see `text`).
+//! - **[the `png` crate](::png)** (image-rs) encodes the bitmaps with zlib
+//!   compression: the chart PNG is tens of kilobytes; tests decode with the same
+//!   crate. Rejected: `image`, which wraps `png` with codecs the lab does not need.
+//! - **[tiny_skia]** rasterises the frames' lines with anti-aliasing, which plotters'
+//!   bitmap back end does not do for lines (it has no text: the frames' caption and
+//!   legend are set by plotters on the same pixels).
+//! - **Deterministic.** No clocks, threads or hash order in what is drawn: the same
+//!   input gives the same bytes, SVG and PNG.
 //! - **Forgiving.** Points with a non-finite deviation or speed-up (and, on a log
 //!   axis, a speed-up ≤ 0) are left out and counted in the caption; an empty input
 //!   gives empty axes that say "no data"; a degenerate range (one point, all
-//!   deviations 0) is widened. Nothing here panics on data.
+//!   deviations 0) is widened; control characters in labels are replaced, so the SVG
+//!   stays well formed. Nothing here panics on data; an error of a back end (none is
+//!   expected: both draw to memory) leaves the picture as far as it got.
 //! - **Little clutter.** Only the front's points and the special configurations
 //!   (reference, brute force, contact graph, stock Rapier) are labelled, placed
-//!   greedily where they overlap nothing, with a leader line when pushed away;
-//!   every point carries a tooltip in the SVG.
+//!   greedily where they overlap nothing, with a leader line when pushed away.
+//!   Repaired runs are teal stars, points with violations red crosses.
 //!
 //! ```
 //! use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
@@ -54,11 +68,10 @@
 //! ```
 
 mod chart;
-mod font;
 pub mod frames;
-mod png;
-mod raster;
-mod svg;
+mod text;
+
+use plotters::prelude::{BitMapBackend, IntoDrawingArea, SVGBackend};
 
 /// One configuration's point on the chart.
 #[derive(Clone, Debug, PartialEq)]
@@ -223,20 +236,61 @@ impl Default for ChartSpec<'static> {
     }
 }
 
-/// The chart as an SVG document (UTF-8 text), `spec.width` × `spec.height` pixels.
-///
-/// Each drawn point is one `<g class="point">` element with a `<title>` tooltip
-/// giving its label, coordinates and violations.
-pub fn svg(points: &[ChartPoint], spec: &ChartSpec) -> String {
-    svg::render(&chart::layout(points, spec))
+/// The size a chart is drawn at: `spec`'s, clamped to 320..=8192 × 240..=8192.
+fn chart_size(spec: &ChartSpec) -> (u32, u32) {
+    (spec.width.clamp(320, 8192), spec.height.clamp(240, 8192))
 }
 
-/// The chart as the bytes of a PNG file (8-bit RGB, uncompressed deflate, so about
-/// 3 bytes per pixel).
+/// The chart as an SVG document (UTF-8 text), `spec.width` × `spec.height` pixels
+/// (clamped), drawn by plotters' SVG back end; text in DejaVu Sans or the viewer's
+/// sans-serif.
+pub fn svg(points: &[ChartPoint], spec: &ChartSpec) -> String {
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, chart_size(spec)).into_drawing_area();
+        // A back-end error leaves the picture as far as it got (see the module docs).
+        let _ = chart::draw(&root, points, spec);
+        let _ = root.present();
+    }
+    out
+}
+
+/// The chart as RGB pixels (row-major from the top-left corner, 3 bytes a pixel) with
+/// its width and height, drawn by plotters' bitmap back end.
+pub fn rgb(points: &[ChartPoint], spec: &ChartSpec) -> (u32, u32, Vec<u8>) {
+    let (w, h) = chart_size(spec);
+    let mut pixels = vec![255u8; w as usize * h as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (w, h)).into_drawing_area();
+        let _ = chart::draw(&root, points, spec);
+        let _ = root.present();
+    }
+    (w, h, pixels)
+}
+
+/// The chart as the bytes of a PNG file: [`rgb`] encoded by the `png` crate (8-bit
+/// RGB, zlib-compressed).
 pub fn png(points: &[ChartPoint], spec: &ChartSpec) -> Vec<u8> {
-    let scene = chart::layout(points, spec);
-    let canvas = raster::render(&scene);
-    png::encode_rgb(canvas.width, canvas.height, &canvas.rgb)
+    let (w, h, pixels) = rgb(points, spec);
+    encode_png(w, h, &pixels)
+}
+
+/// RGB pixels as a PNG file (8-bit RGB, zlib at the `png` crate's balanced level,
+/// adaptive filtering). `rgb` must hold `width * height * 3` bytes; a mismatch (a
+/// bug here, not data) gives an empty vector rather than a panic.
+pub(crate) fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut encoder = ::png::Encoder::new(&mut out, width, height);
+    encoder.set_color(::png::ColorType::Rgb);
+    encoder.set_depth(::png::BitDepth::Eight);
+    encoder.set_compression(::png::Compression::Balanced);
+    let written = encoder
+        .write_header()
+        .and_then(|mut writer| writer.write_image_data(rgb).and_then(|_| writer.finish()));
+    if written.is_err() {
+        out.clear();
+    }
+    out
 }
 
 #[cfg(test)]

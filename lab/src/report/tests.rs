@@ -1,9 +1,65 @@
 //! Tests of the public chart API: the Pareto front on hand-made sets, the PNG checked
-//! by a decoder, the SVG's markers and tag balance, edge cases, and a sample chart
-//! written to the temporary directory (`chart_test.png`, `chart_test.svg`) to look at.
+//! by the `png` crate's decoder, the SVG's markers and tag balance, edge cases, and a
+//! sample chart written to the temporary directory (`chart_test.png`,
+//! `chart_test.svg`) to look at.
 
-use super::png::{decode_checked, SIGNATURE};
 use super::*;
+
+/// The PNG signature.
+const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+
+/// Decodes a PNG with the `png` crate, checking it is 8-bit RGB; returns width,
+/// height and pixels.
+pub(crate) fn decode_checked(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), String> {
+    let decoder = ::png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("image too large")?];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    if (info.color_type, info.bit_depth) != (::png::ColorType::Rgb, ::png::BitDepth::Eight) {
+        return Err(format!("{:?} {:?}", info.color_type, info.bit_depth));
+    }
+    buf.truncate(info.buffer_size());
+    Ok((info.width, info.height, buf))
+}
+
+/// `#RRGGBB` as plotters writes colours into SVG.
+fn hex(c: plotters::prelude::RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+}
+
+/// Filled markers in the SVG: elements filled with a kind's colour (one per point
+/// drawn without violations, and one per kind in the legend).
+fn filled_markers(svg: &str) -> usize {
+    PointKind::ALL
+        .iter()
+        .map(|&k| count(svg, &format!("fill=\"{}\"", hex(chart::style(k).1))))
+        .sum()
+}
+
+/// Violation crosses in the SVG: two strokes each.
+fn crosses(svg: &str) -> usize {
+    count(svg, &format!("stroke=\"{}\"", hex(chart::VIOLATION))) / 2
+}
+
+/// What [`filled_markers`] and [`crosses`] should find: the drawable points' markers
+/// plus the legend's samples.
+fn expected_markers(points: &[ChartPoint], log_y: bool) -> (usize, usize) {
+    let drawn: Vec<&ChartPoint> = points
+        .iter()
+        .filter(|p| p.is_finite() && (!log_y || p.speedup > 0.0))
+        .collect();
+    let filled = drawn.iter().filter(|p| p.violations == 0).count();
+    let legend = PointKind::ALL
+        .iter()
+        .filter(|&&k| {
+            drawn
+                .iter()
+                .any(|p| p.kind == k && (p.violations == 0 || k != PointKind::Combination))
+        })
+        .count();
+    let violating = drawn.iter().filter(|p| p.violations > 0).count();
+    (filled + legend, violating + usize::from(violating > 0))
+}
 
 fn p(label: &str, deviation: f64, speedup: f64, violations: u64) -> ChartPoint {
     ChartPoint::new(
@@ -188,21 +244,33 @@ fn svg_has_one_marker_per_finite_point_and_balanced_tags() {
     let svg = svg(&points, &spec);
     let finite = points.iter().filter(|p| p.is_finite()).count();
     assert_eq!(finite, points.len() - 2);
-    assert_eq!(count(&svg, "<g class=\"point\">"), finite);
+    // Every finite point is one filled marker or one cross; the legend adds one sample
+    // per kind and one cross.
+    let (filled, crossed) = expected_markers(&points, spec.log_y);
+    assert_eq!(filled + crossed, finite + 6 + 1);
+    assert_eq!(filled_markers(&svg), filled);
+    assert_eq!(crosses(&svg), crossed);
     assert!(check_balanced(&svg).unwrap() > finite);
-    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    assert!(svg.starts_with("<svg "));
+    assert!(svg.contains("xmlns=\"http://www.w3.org/2000/svg\""));
+    assert!(svg.contains("font-family=\"DejaVu Sans, sans-serif\""));
     assert!(svg.trim_end().ends_with("</svg>"));
-    // The special points and the legend entries are labelled.
+    // The special points and the legend entries are labelled (plotters writes a text
+    // element's content on a line of its own).
     for text in [
-        ">reference<",
-        ">brute force<",
-        ">contact graph<",
-        ">stock Rapier<",
-        ">with violations<",
+        "reference",
+        "brute force",
+        "contact graph",
+        "stock Rapier",
+        "with violations",
+        "repaired",
+        "Pareto front (0 violations)",
     ] {
-        assert!(svg.contains(text), "missing {text}");
+        assert!(
+            svg.contains(&format!(">\n{text}\n</text>")),
+            "missing {text}"
+        );
     }
-    assert!(svg.contains("Pareto front (0 violations)"));
     assert!(svg.contains("2 not drawn"));
     assert_eq!(svg, super::svg(&points, &spec), "not deterministic");
 }
@@ -210,7 +278,7 @@ fn svg_has_one_marker_per_finite_point_and_balanced_tags() {
 #[test]
 fn svg_escapes_labels() {
     let points = vec![ChartPoint::new(
-        "a<b & \"c\"",
+        "a<b & \"c\"\u{1}",
         0.0,
         1.0,
         0,
@@ -224,7 +292,8 @@ fn svg_escapes_labels() {
         },
     );
     check_balanced(&svg).unwrap();
-    assert!(svg.contains("a&lt;b &amp; &quot;c&quot;"));
+    assert!(svg.contains("a&lt;b &amp; &quot;c&quot;\u{FFFD}"));
+    assert!(svg.contains("&lt;&amp;&gt;") && !svg.contains("<&>"));
 }
 
 #[test]
@@ -235,10 +304,20 @@ fn png_is_a_valid_file_of_the_requested_size() {
     assert_eq!(png[..8], SIGNATURE);
     let (w, h, rgb) = decode_checked(&png).unwrap();
     assert_eq!((w, h), (900, 600));
+    assert_eq!((w, h, rgb.clone()), super::rgb(&points, &spec));
     let has = |c: [u8; 3]| rgb.chunks_exact(3).filter(|px| *px == c).count();
     assert!(has([0xFF, 0x7F, 0x0E]) > 100, "front line missing");
     assert!(has([0xD6, 0x27, 0x28]) > 50, "violation crosses missing");
-    assert!(has([0x22, 0x22, 0x22]) > 1000, "text missing");
+    assert!(has([0x1F, 0x77, 0xB4]) > 500, "combination markers missing");
+    assert!(has([0x17, 0xBE, 0xCF]) > 50, "repaired stars missing");
+    // Text: anti-aliased, so count the dark pixels (ink and its near shades).
+    let dark = rgb
+        .chunks_exact(3)
+        .filter(|px| px.iter().all(|&c| c < 0x60))
+        .count();
+    assert!(dark > 1000, "text missing: {dark}");
+    // Compressed: far below the 3 bytes a pixel of the raw image.
+    assert!(png.len() < rgb.len() / 10, "{} bytes", png.len());
     assert_eq!(png, super::png(&points, &spec), "not deterministic");
 }
 
@@ -283,13 +362,10 @@ fn edge_cases_do_not_panic_and_give_valid_output() {
                 };
                 let svg = svg(points, &spec);
                 check_balanced(&svg).unwrap_or_else(|e| panic!("{name}: {e}"));
-                let drawn = points
-                    .iter()
-                    .filter(|p| p.is_finite() && (!log_y || p.speedup > 0.0))
-                    .count();
+                let (filled, crossed) = expected_markers(points, log_y);
                 assert_eq!(
-                    count(&svg, "<g class=\"point\">"),
-                    drawn,
+                    (filled_markers(&svg), crosses(&svg)),
+                    (filled, crossed),
                     "{name}, log_y {log_y}"
                 );
                 assert!(
@@ -302,7 +378,37 @@ fn edge_cases_do_not_panic_and_give_valid_output() {
         }
     }
     let empty = svg(&[], &ChartSpec::default());
-    assert!(empty.contains(">no data<"));
+    assert!(empty.contains(">\nno data\n</text>"));
+    assert_eq!((filled_markers(&empty), crosses(&empty)), (0, 0));
+}
+
+#[test]
+fn svg_and_png_put_the_markers_in_the_same_places() {
+    // One drawing routine, two back ends: every combination marker's centre in the
+    // SVG is a pixel of its colour in the bitmap.
+    let points = sample_points();
+    let spec = ChartSpec::default();
+    let svg = svg(&points, &spec);
+    let (w, _, rgb) = super::rgb(&points, &spec);
+    let colour = chart::style(PointKind::Combination).1;
+    let fill = format!("fill=\"{}\"", hex(colour));
+    let attr = |tag: &str, name: &str| -> i64 {
+        let start = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        tag[start..].split('"').next().unwrap().parse().unwrap()
+    };
+    // (A few are covered by a later marker or a label's translucent box.)
+    let (mut checked, mut same) = (0, 0);
+    for tag in svg
+        .split('<')
+        .filter(|t| t.starts_with("circle") && t.contains(&fill))
+    {
+        let (x, y) = (attr(tag, "cx"), attr(tag, "cy"));
+        let i = (y as usize * w as usize + x as usize) * 3;
+        same += usize::from(rgb[i..i + 3] == [colour.0, colour.1, colour.2]);
+        checked += 1;
+    }
+    assert!(checked > 50, "{checked}");
+    assert!(same * 10 >= checked * 9, "{same} of {checked}");
 }
 
 #[test]

@@ -1,24 +1,23 @@
-//! The stability suite measured (issue 5): every scene of
+//! `rcg-lab stability`: the stability suite measured (issue 5). Every scene of
 //! [`rcg_scenes::stability`] under the reference, brute force, stock
 //! Rapier, the contact graph and all 2^7 combinations of the speed-up switches; each
 //! run's deviation from the scene's reference and its plausibility violations by kind.
 //!
 //! ```text
-//! cargo run --release --example stability -- [--configs all|quick|LIST]
-//!                                            [--scenes all|LIST] [--repair] [--out DIR]
+//! cargo lab stability [--configs all|quick|LIST] [--scenes all|LIST] [--repair] [--out DIR]
 //! ```
 //! `--configs`: `all` (default: the named runs and the 128 combinations), `quick` (the
 //! named runs and each switch alone), or a comma list of `reference`, `plain` (the DIKU
 //! run's reference), `brute`, `cg`, `stock`, combination labels like `C-----F` or
 //! numbers 0–127. Each scene also runs its targets and their controls (see
-//! `StabilityCase::target_spec`). `--scenes`: `all` (default) or a comma list of scene
+//! [`StabilityCase::target_spec`]). `--scenes`: `all` (default) or a comma list of scene
 //! names. Writes `results.csv` into `DIR` (default `target/stability`) and prints two
 //! markdown tables: per scene, the violations and deviation under the named runs, each
 //! switch alone and the worst combination; then per scene and target, the target's
 //! run against its control and whether the failure shows.
 //!
 //! # Variants and the monitor mode
-//! A run is a [`Variant`]: a configuration ([`RunSpec`]) and a [`MonitorMode`]. By
+//! A run is a `Variant`: a configuration ([`RunSpec`]) and a `MonitorMode`. By
 //! default the mode is `Detect`: an observing monitor reports and nothing is repaired.
 //! `--repair` adds a second pass of every layered configuration with the layer's
 //! monitor repairing ([`RunSpec::with_repair`]); plain Rapier runs (the plain reference,
@@ -26,18 +25,73 @@
 //! not, is measured against the same, unrepaired reference. The CSV has a `monitor`
 //! column, and the tables are printed once per mode.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use rapier_contact_graph::monitor::{MonitorConfig, ViolationKind};
 use rapier_contact_graph::speedups::SpeedUps;
-use rcg_lab::measure::{self, Mode, RunOptions, RunResult, RunSpec};
-use rcg_lab::stability::{self, Failure, StabilityCase, Target};
 
-const USAGE: &str = "usage: stability [--configs all|quick|LIST] [--scenes all|LIST] [--repair] [--out DIR]
-  configs LIST: comma-separated reference, plain, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127
-  scenes LIST: comma-separated scene names";
+use crate::measure::{self, Mode, RunOptions, RunResult, RunSpec};
+use crate::stability::{self, Failure, StabilityCase, Target};
+
+/// Options of `rcg-lab stability`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Configurations: `all`, `quick` (the named runs and each switch alone), or a
+    /// comma list of reference, plain, brute, cg, stock and combination labels (e.g.
+    /// C-----F) or numbers 0-127.
+    #[arg(
+        long,
+        value_name = "all|quick|LIST",
+        default_value = "all",
+        value_parser = parse_configs
+    )]
+    pub configs: Configs,
+    /// Scenes: `all` or a comma list of scene names.
+    #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_scenes)]
+    pub scenes: Scenes,
+    /// Also run every layered configuration with the layer's monitor repairing.
+    #[arg(long)]
+    pub repair: bool,
+    /// Directory for results.csv.
+    #[arg(long, value_name = "DIR", default_value = "target/stability")]
+    pub out: PathBuf,
+}
+
+/// The configurations to run, the reference first.
+#[derive(Clone, Debug)]
+pub struct Configs(pub Vec<RunSpec>);
+
+/// The scenes to run.
+#[derive(Clone, Debug)]
+pub struct Scenes(pub Vec<&'static StabilityCase>);
+
+/// The columns of `results.csv`.
+pub const CSV_HEADER: [&str; 23] = [
+    "scene",
+    "configuration",
+    "kind",
+    "cache",
+    "tweak",
+    "reduce",
+    "zero",
+    "damp",
+    "subgroup",
+    "fixate",
+    "monitor",
+    "deviation_radii",
+    "violations",
+    "hanging",
+    "launch",
+    "penetration",
+    "escape",
+    "peak_hang",
+    "peak_launch",
+    "peak_penetration",
+    "left_region",
+    "final_awake",
+    "time_s",
+];
 
 /// What the plausibility monitor does during a run.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -64,37 +118,8 @@ struct Variant {
     monitor: MonitorMode,
 }
 
-struct Args {
-    configs: String,
-    scenes: String,
-    repair: bool,
-    out: PathBuf,
-}
-
-fn parse_args() -> Result<Args, String> {
-    let mut a = Args {
-        configs: "all".into(),
-        scenes: "all".into(),
-        repair: false,
-        out: PathBuf::from("target/stability"),
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
-        match flag.as_str() {
-            "--configs" => a.configs = value()?,
-            "--scenes" => a.scenes = value()?,
-            "--repair" => a.repair = true,
-            "--out" => a.out = PathBuf::from(value()?),
-            "-h" | "--help" => return Err(String::new()),
-            other => return Err(format!("unknown option `{other}`")),
-        }
-    }
-    Ok(a)
-}
-
-/// The configurations to run; the reference always comes first.
-fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
+/// The configurations of a `--configs` value; the reference always comes first.
+pub fn parse_configs(list: &str) -> Result<Configs, String> {
     let mut out = vec![stability::reference()];
     let named = [
         RunSpec {
@@ -135,18 +160,20 @@ fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
             }
         }
     }
-    Ok(out)
+    Ok(Configs(out))
 }
 
-fn scenes(list: &str) -> Result<Vec<&'static StabilityCase>, String> {
+/// The scenes of a `--scenes` value.
+pub fn parse_scenes(list: &str) -> Result<Scenes, String> {
     if list == "all" {
-        return Ok(stability::suite().iter().collect());
+        return Ok(Scenes(stability::suite().iter().collect()));
     }
     list.split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .map(|n| stability::case(n).ok_or(format!("unknown scene `{n}`")))
-        .collect()
+        .collect::<Result<_, _>>()
+        .map(Scenes)
 }
 
 /// Runs one variant of a case against its reference trajectory (`None`: this is the
@@ -263,24 +290,9 @@ fn targets_of(case: &StabilityCase) -> Vec<Target> {
     t
 }
 
-fn main() {
-    let args = match parse_args() {
-        Ok(a) => a,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}");
-            }
-            eprintln!("{USAGE}");
-            std::process::exit(2);
-        }
-    };
-    let (specs, cases) = match (configs(&args.configs), scenes(&args.scenes)) {
-        (Ok(s), Ok(c)) => (s, c),
-        (Err(msg), _) | (_, Err(msg)) => {
-            eprintln!("error: {msg}\n{USAGE}");
-            std::process::exit(2);
-        }
-    };
+/// Runs `rcg-lab stability`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let (specs, cases) = (&args.configs.0, &args.scenes.0);
     let modes: &[MonitorMode] = if args.repair {
         &[MonitorMode::Detect, MonitorMode::Repair]
     } else {
@@ -290,22 +302,16 @@ fn main() {
     let started = Instant::now();
     let plan: Vec<(&StabilityCase, Vec<Variant>)> = cases
         .iter()
-        .map(|&c| (c, variants_of(c, &specs, modes)))
+        .map(|&c| (c, variants_of(c, specs, modes)))
         .collect();
     let total: usize = plan.iter().map(|(_, v)| v.len()).sum();
-    let mut done = 0usize;
+    let bar = super::progress(total);
     let mut results: Vec<(&StabilityCase, Variant, RunResult)> = Vec::new();
     for (case, variants) in &plan {
         // The reference is the first variant; every run is measured against it.
         let mut reference: Option<measure::Trajectory> = None;
         for v in variants {
-            eprint!(
-                "\r{done}/{total} {:<20} {:<16} {:>6.1}s ",
-                case.name,
-                v.spec.name,
-                started.elapsed().as_secs_f64()
-            );
-            let _ = std::io::stderr().flush();
+            bar.set_message(format!("{} / {}", case.name, v.spec.name));
             match run_variant(case, v, reference.as_ref()) {
                 Ok((mut r, traj)) => {
                     if reference.is_none() {
@@ -317,61 +323,45 @@ fn main() {
                     results.push((case, v.clone(), r));
                 }
                 Err(e) => {
-                    eprintln!("\nerror in {} / {}: {e}", case.name, v.spec.name);
-                    std::process::exit(1);
+                    bar.abandon();
+                    return Err(format!("in {} / {}: {e}", case.name, v.spec.name));
                 }
             }
-            done += 1;
+            bar.inc(1);
         }
     }
-    eprintln!(
-        "\r{done}/{total} runs in {:.1} s{:40}",
-        started.elapsed().as_secs_f64(),
-        ""
-    );
+    bar.finish_and_clear();
+    eprintln!("{total} runs in {:.1} s", started.elapsed().as_secs_f64());
 
     // CSV: one row per scene × variant.
-    let mut csv = String::from(
-        "scene,configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,monitor,deviation_radii,violations,hanging,launch,penetration,escape,peak_hang,peak_launch,peak_penetration,left_region,final_awake,time_s\n",
-    );
-    for (case, v, r) in &results {
-        let sw = match &v.spec.mode {
-            Mode::Layer(s) => [
-                s.cache, s.tweak, s.reduce, s.zero, s.damp, s.subgroup, s.fixate,
-            ]
-            .map(|b| (b as u8).to_string()),
-            _ => std::array::from_fn(|_| String::new()),
-        };
-        csv += &format!(
-            "{},{},{},{},{},{:.6},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{:.6}\n",
-            case.name,
-            r.name,
-            kind_name(&v.spec),
-            sw.join(","),
-            v.monitor.name(),
-            r.deviation,
-            r.violations.total(),
-            r.violations.hanging,
-            r.violations.launch,
-            r.violations.penetration,
-            r.violations.escape,
-            r.peaks.hang,
-            r.peaks.launch,
-            r.peaks.penetration,
-            r.left_region,
-            r.final_awake,
-            r.time_s,
-        );
-    }
-    if let Err(e) = std::fs::create_dir_all(&args.out) {
-        eprintln!("cannot create {}: {e}", args.out.display());
-        std::process::exit(1);
-    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let path = args.out.join("results.csv");
-    if let Err(e) = std::fs::write(&path, csv) {
-        eprintln!("cannot write {}: {e}", path.display());
-        std::process::exit(1);
-    }
+    let rows = results.iter().map(|(case, v, r)| {
+        let mut row = vec![
+            case.name.to_string(),
+            r.name.clone(),
+            kind_name(&v.spec).to_string(),
+        ];
+        row.extend(super::switch_fields(&v.spec));
+        row.extend([
+            v.monitor.name().to_string(),
+            format!("{:.6}", r.deviation),
+            r.violations.total().to_string(),
+            r.violations.hanging.to_string(),
+            r.violations.launch.to_string(),
+            r.violations.penetration.to_string(),
+            r.violations.escape.to_string(),
+            format!("{:.4}", r.peaks.hang),
+            format!("{:.4}", r.peaks.launch),
+            format!("{:.4}", r.peaks.penetration),
+            r.left_region.to_string(),
+            r.final_awake.to_string(),
+            format!("{:.6}", r.time_s),
+        ]);
+        row
+    });
+    super::write_csv(&path, &CSV_HEADER, rows)?;
 
     for &mode in modes {
         let per_case: Vec<(&StabilityCase, Vec<&RunResult>)> = cases
@@ -396,6 +386,7 @@ fn main() {
         path.display(),
         started.elapsed().as_secs_f64()
     );
+    Ok(())
 }
 
 /// Per scene: the named runs, each switch alone (on the contact graph) and the worst
@@ -497,5 +488,27 @@ fn verdict_table(per_case: &[(&StabilityCase, Vec<&RunResult>)]) {
                 },
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn configuration_and_scene_lists() {
+        let quick = parse_configs("quick").unwrap().0;
+        assert_eq!(quick.len(), 1 + 4 + 7 + 1);
+        assert_eq!(quick[0].name, stability::reference().name);
+        let some = parse_configs("plain,cg,C-----F").unwrap().0;
+        assert_eq!(some[1].name, "plain reference");
+        assert_eq!(kind_name(&some[1]), "plain_reference");
+        assert_eq!(kind_name(&some[3]), "combination");
+        assert!(parse_configs("C-----F+repair").is_err(), "no +repair here");
+        let all = parse_scenes("all").unwrap().0;
+        assert_eq!(all.len(), stability::suite().len());
+        let first = all[0].name;
+        assert_eq!(parse_scenes(first).unwrap().0[0].name, first);
+        assert!(parse_scenes("nope").unwrap_err().contains("nope"));
     }
 }

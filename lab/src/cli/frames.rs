@@ -1,5 +1,6 @@
-//! PNG frames of a scene coloured as the paper's Fig. 17: purple sleepy, red moving,
-//! blue absolute rest, green fixed — and amber for bodies in a plausibility violation.
+//! `rcg-lab frames`: PNG frames of a scene coloured as the paper's Fig. 17: purple
+//! sleepy, red moving, blue absolute rest, green fixed — and amber for bodies in a
+//! plausibility violation.
 //!
 //! The scene is the stability suite's hanging sleeper
 //! (`rcg_scenes::stability::hanging_sleeper`): a sphere resting on another sphere that a
@@ -13,10 +14,9 @@
 //! the sphere is released the step after its support leaves and falls.
 //!
 //! ```text
-//! cargo run --release --example frames -- [--out DIR] [--every K] [--steps N]
-//!                                         [--view side|tilted] [--size WxH] [--repair]
+//! cargo lab frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]
 //! ```
-//! Writes `frame_0000.png`, … every `K` steps (default 10) of `N` steps (default 240)
+//! Writes `frame_0000.png`, … every `K` steps (default 10) of `N` steps (default 400)
 //! into `DIR` (default `target/frames`) and prints each path with the body counts per
 //! colour.
 
@@ -25,79 +25,57 @@ use std::time::Instant;
 
 use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rcg_lab::report::frames::{violating_bodies, Camera, Classifier, Renderer, Shade, View};
-
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldView};
 
-const USAGE: &str =
-    "usage: frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]";
+use crate::report::frames::{violating_bodies, Camera, Classifier, Renderer, Shade, View};
 
-struct Args {
-    out: PathBuf,
-    every: u64,
-    steps: u64,
-    view: View,
-    size: (u32, u32),
-    repair: bool,
+/// Options of `rcg-lab frames`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Directory for the frames.
+    #[arg(long, value_name = "DIR", default_value = "target/frames")]
+    pub out: PathBuf,
+    /// A frame every K steps.
+    #[arg(long, value_name = "K", default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
+    pub every: u64,
+    /// Steps to simulate (0.01 s each).
+    #[arg(long, value_name = "N", default_value_t = 400)]
+    pub steps: u64,
+    /// The camera: the side view of the paper's figures, or tilted 25° round and 25°
+    /// down.
+    #[arg(long, value_enum, default_value_t = ViewArg::Side)]
+    pub view: ViewArg,
+    /// Picture size in pixels, e.g. 800x480 (each side clamped to 160..=8192).
+    #[arg(long, value_name = "WxH", default_value = "800x480", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Let the monitor repair (release the hanging sphere) instead of only reporting.
+    #[arg(long)]
+    pub repair: bool,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let mut a = Args {
-        out: PathBuf::from("target/frames"),
-        every: 10,
-        steps: 400,
-        view: View::SIDE,
-        size: (800, 480),
-        repair: false,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
-        match flag.as_str() {
-            "--out" => a.out = PathBuf::from(value()?),
-            "--every" => a.every = value()?.parse().map_err(|e| format!("--every: {e}"))?,
-            "--steps" => a.steps = value()?.parse().map_err(|e| format!("--steps: {e}"))?,
-            "--view" => {
-                a.view = match value()?.as_str() {
-                    "side" => View::SIDE,
-                    "tilted" => View::tilted(25.0, 25.0).map_err(|e| e.to_string())?,
-                    other => return Err(format!("--view: `{other}` is not side or tilted")),
-                }
-            }
-            "--size" => {
-                let v = value()?;
-                let (w, h) = v
-                    .split_once('x')
-                    .ok_or(format!("--size: `{v}` is not WxH"))?;
-                a.size = (
-                    w.parse().map_err(|e| format!("--size: {e}"))?,
-                    h.parse().map_err(|e| format!("--size: {e}"))?,
-                );
-            }
-            "--repair" => a.repair = true,
-            "-h" | "--help" => return Err(String::new()),
-            other => return Err(format!("unknown option `{other}`")),
-        }
-    }
-    if a.every == 0 {
-        return Err("--every must be positive".into());
-    }
-    Ok(a)
+/// `--view`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ViewArg {
+    /// Looking along −z, x right, y up.
+    Side,
+    /// The side view turned 25° about y and pitched 25° down.
+    Tilted,
 }
 
-fn main() -> std::io::Result<()> {
-    let args = match parse_args() {
-        Ok(a) => a,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}");
-            }
-            eprintln!("{USAGE}");
-            std::process::exit(2);
-        }
-    };
-    std::fs::create_dir_all(&args.out)?;
+/// `WxH` as `(W, H)`.
+pub fn parse_size(v: &str) -> Result<(u32, u32), String> {
+    let (w, h) = v.split_once('x').ok_or(format!("`{v}` is not WxH"))?;
+    Ok((
+        w.trim().parse().map_err(|e| format!("width: {e}"))?,
+        h.trim().parse().map_err(|e| format!("height: {e}"))?,
+    ))
+}
+
+/// Runs `rcg-lab frames`.
+pub fn run(args: &Args) -> Result<(), String> {
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
 
     // The scene: the shared stability scene.
     let mut scene = rcg_scenes::stability::hanging_sleeper::hanging_sleeper();
@@ -108,7 +86,9 @@ fn main() -> std::io::Result<()> {
     };
     let label = speedups.label();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(speedups)).expect("valid speed-ups");
+    layer
+        .set_speedups(Some(speedups))
+        .map_err(|e| e.to_string())?;
     let mode = if args.repair {
         MonitorMode::Repair
     } else {
@@ -116,29 +96,33 @@ fn main() -> std::io::Result<()> {
     };
     layer
         .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
-        .expect("valid monitor config");
+        .map_err(|e| e.to_string())?;
     layer.prime_monitor(&WorldView::from(&scene.world));
 
+    let view = match args.view {
+        ViewArg::Side => View::SIDE,
+        ViewArg::Tilted => View::tilted(25.0, 25.0).map_err(|e| e.to_string())?,
+    };
     let camera = Camera::new(args.size.0, args.size.1)
-        .with_view(args.view)
+        .with_view(view)
         .with_bounds(Vector::new(-3.0, -0.5, -1.0), Vector::new(4.0, 3.5, 1.0))
-        .expect("finite bounds");
+        .map_err(|e| e.to_string())?;
     // Before the first step: the fixated bodies turn fixed later and stay coloured.
     let renderer = Renderer::new(camera).with_fixed_as_scenery(&scene.world);
 
     let dt = scene.world.integration_parameters.dt;
     let started = Instant::now();
-    let (mut render_time, mut write_time) = (0.0, 0.0);
+    let (mut render_time, mut write_time, mut bytes) = (0.0, 0.0, 0usize);
     let mut written = 0;
     for step in 0..=args.steps {
         if step > 0 {
             scene.before_step(step - 1);
             layer.step(&mut scene.world);
         }
-        let monitor = layer.monitor().expect("the monitor is on").monitor();
         if step % args.every != 0 {
             continue;
         }
+        let monitor = layer.monitor().ok_or("the monitor is off")?.monitor();
         let t0 = Instant::now();
         let violating = violating_bodies(monitor);
         let classes = Classifier::new(&scene.world.bodies, &layer).violating(&violating);
@@ -147,10 +131,18 @@ fn main() -> std::io::Result<()> {
             scene.name,
             step as Real * dt
         );
-        let frame = renderer.render(&scene.world, &|h| classes.shade(h), &caption);
+        let frame =
+            renderer.render_with(&scene.world, &|h| classes.shade(h), &caption, |_backend| {
+                // ---- OVERLAY: the second pass into the same DebugRenderBackend. ----
+                // The plugin's drawing of the contact graph (touching / trigger /
+                // structural edges, groups, states) goes here, e.g.
+                // `rapier_contact_graph::debug::draw(&layer, &scene.world, _backend)`.
+            });
         let t1 = Instant::now();
         let path = args.out.join(format!("frame_{:04}.png", step / args.every));
-        frame.write_png(&path)?;
+        let png = frame.png();
+        std::fs::write(&path, &png).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        bytes += png.len();
         render_time += (t1 - t0).as_secs_f64();
         write_time += t1.elapsed().as_secs_f64();
         written += 1;
@@ -161,12 +153,13 @@ fn main() -> std::io::Result<()> {
             .collect();
         println!("{}  ({})", path.display(), counts.join(", "));
     }
-    let m = layer.monitor().expect("the monitor is on");
+    let m = layer.monitor().ok_or("the monitor is off")?;
     let totals = m.monitor().totals();
     println!(
-        "{written} frames in {:.2} s (per frame: {:.1} ms to render, {:.1} ms to write); \
+        "{written} frames ({:.0} KB) in {:.2} s (per frame: {:.1} ms to render, {:.1} ms to encode and write); \
          violations: {} hanging sleeper, {} launch, {} deep penetration, {} escape; \
          repairs: {} groups woken",
+        bytes as f64 / 1024.0,
         started.elapsed().as_secs_f64(),
         1e3 * render_time / f64::from(written.max(1)),
         1e3 * write_time / f64::from(written.max(1)),

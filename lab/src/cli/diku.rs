@@ -1,11 +1,10 @@
-//! The project's main job: the DIKU scene (paper §7, Fig. 12) run under the reference,
-//! brute force, the contact graph, stock Rapier and all 2^7 combinations of cache,
-//! tweak, reduce, zero, damp, subgroup and fixate; every run measured for speed and
-//! accuracy in one process (DESIGN §5).
+//! `rcg-lab diku`: the project's main job. The DIKU scene (paper §7, Fig. 12) run
+//! under the reference, brute force, the contact graph, stock Rapier and all 2^7
+//! combinations of cache, tweak, reduce, zero, damp, subgroup and fixate; every run
+//! measured for speed and accuracy in one process (DESIGN §5).
 //!
 //! ```text
-//! cargo run --release --example diku -- [--spheres N] [--configs LIST] [--steps K]
-//!                                       [--seed S] [--out DIR]
+//! cargo lab diku [--spheres N] [--configs all|quick|LIST] [--steps K] [--seed S] [--out DIR]
 //! ```
 //! `LIST` is `all` (default: the named runs, the 128 combinations, and each again with
 //! the monitor repairing), `quick` (the named runs and 8 combinations, each with and
@@ -14,58 +13,58 @@
 //! with a `+repair` suffix. Writes `results.csv`, `chart.svg` and `chart.png` into `DIR`
 //! (default `target/diku`), and prints the table.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use rapier3d::prelude::RigidBodyHandle;
 use rapier_contact_graph::monitor::MonitorConfig;
 use rapier_contact_graph::speedups::SpeedUps;
-use rcg_lab::measure::{self, Mode, RunOptions, RunResult, RunSpec};
-use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
 use rcg_scenes::diku::{diku, is_on_plane, DikuParams};
 
-const USAGE: &str = "usage: diku [--spheres N] [--configs all|quick|LIST] [--steps K] [--seed S] [--out DIR]
-  LIST: comma-separated reference, brute, cg, stock, combination labels (e.g. C-----F) or numbers 0-127,
-        each optionally suffixed +repair (the monitor repairing)";
+use crate::measure::{self, Mode, RunOptions, RunResult, RunSpec};
+use crate::report::{self, ChartPoint, ChartSpec, PointKind};
 
-struct Args {
-    spheres: usize,
-    configs: String,
-    steps: u64,
-    seed: u64,
-    out: PathBuf,
+/// Options of `rcg-lab diku`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Spheres dropped on the plane.
+    #[arg(long, value_name = "N", default_value_t = 120, value_parser = positive)]
+    pub spheres: usize,
+    /// Configurations: `all`, `quick`, or a comma list of reference, brute, cg,
+    /// cg+repair, stock and combination labels (e.g. C-----F) or numbers 0-127, each
+    /// optionally suffixed +repair (the monitor repairing).
+    #[arg(
+        long,
+        value_name = "all|quick|LIST",
+        default_value = "all",
+        value_parser = parse_configs
+    )]
+    pub configs: Configs,
+    /// Steps of 0.01 s per run.
+    #[arg(long, value_name = "K", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub steps: u64,
+    /// Seed of the scene's sphere placement.
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// Directory for results.csv, chart.svg and chart.png.
+    #[arg(long, value_name = "DIR", default_value = "target/diku")]
+    pub out: PathBuf,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let mut a = Args {
-        spheres: 120,
-        configs: "all".into(),
-        steps: 1000,
-        seed: 0,
-        out: PathBuf::from("target/diku"),
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
-        match flag.as_str() {
-            "--spheres" => a.spheres = value()?.parse().map_err(|e| format!("--spheres: {e}"))?,
-            "--configs" => a.configs = value()?,
-            "--steps" => a.steps = value()?.parse().map_err(|e| format!("--steps: {e}"))?,
-            "--seed" => a.seed = value()?.parse().map_err(|e| format!("--seed: {e}"))?,
-            "--out" => a.out = PathBuf::from(value()?),
-            "-h" | "--help" => return Err(String::new()),
-            other => return Err(format!("unknown option `{other}`")),
-        }
+/// The configurations to run, the reference first.
+#[derive(Clone, Debug)]
+pub struct Configs(pub Vec<RunSpec>);
+
+fn positive(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("must be positive".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
     }
-    if a.spheres == 0 || a.steps == 0 {
-        return Err("--spheres and --steps must be positive".into());
-    }
-    Ok(a)
 }
 
-/// The configurations to run; the reference always comes first.
-fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
+/// The configurations of a `--configs` value; the reference always comes first.
+pub fn parse_configs(list: &str) -> Result<Configs, String> {
     let mut out = vec![RunSpec::reference()];
     let named = [
         RunSpec::brute_force(),
@@ -113,10 +112,11 @@ fn configs(list: &str) -> Result<Vec<RunSpec>, String> {
             }
         }
     }
-    Ok(out)
+    Ok(Configs(out))
 }
 
-fn kind_of(spec: &RunSpec) -> PointKind {
+/// The chart marker of a configuration.
+pub fn kind_of(spec: &RunSpec) -> PointKind {
     if spec.repair {
         return PointKind::Repaired;
     }
@@ -129,44 +129,37 @@ fn kind_of(spec: &RunSpec) -> PointKind {
     }
 }
 
-fn progress(done: usize, total: usize, name: &str, started: Instant) {
-    let width = 30;
-    let filled = done * width / total.max(1);
-    let elapsed = started.elapsed().as_secs_f64();
-    let eta = if done > 0 {
-        elapsed / done as f64 * (total - done) as f64
-    } else {
-        0.0
-    };
-    eprint!(
-        "\r[{}{}] {done}/{total} {:<14} {:>6.1}s elapsed, ~{:>5.0}s left ",
-        "#".repeat(filled),
-        " ".repeat(width - filled),
-        name,
-        elapsed,
-        eta
-    );
-    let _ = std::io::stderr().flush();
-}
+/// The columns of `results.csv`.
+pub const CSV_HEADER: [&str; 24] = [
+    "configuration",
+    "kind",
+    "cache",
+    "tweak",
+    "reduce",
+    "zero",
+    "damp",
+    "subgroup",
+    "fixate",
+    "time_s",
+    "speedup_brute",
+    "speedup_stock",
+    "deviation_radii",
+    "violations",
+    "hanging",
+    "launch",
+    "penetration",
+    "escape",
+    "mean_groups",
+    "max_group_variables",
+    "mean_awake",
+    "final_awake",
+    "last_second_s",
+    "left_plane",
+];
 
-fn main() {
-    let args = match parse_args() {
-        Ok(a) => a,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}");
-            }
-            eprintln!("{USAGE}");
-            std::process::exit(2);
-        }
-    };
-    let specs = match configs(&args.configs) {
-        Ok(s) => s,
-        Err(msg) => {
-            eprintln!("error: {msg}\n{USAGE}");
-            std::process::exit(2);
-        }
-    };
+/// Runs `rcg-lab diku`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let specs = &args.configs.0;
     let params = DikuParams {
         spheres: args.spheres,
         seed: args.seed,
@@ -192,10 +185,11 @@ fn main() {
         specs.len()
     );
     let started = Instant::now();
+    let bar = super::progress(specs.len());
     let mut results: Vec<(RunSpec, RunResult)> = Vec::new();
     let mut reference = None;
-    for (i, spec) in specs.iter().enumerate() {
-        progress(i, specs.len(), &spec.name, started);
+    for spec in specs {
+        bar.set_message(spec.name.clone());
         let opts = RunOptions {
             steps: args.steps,
             sample_every: 10,
@@ -214,13 +208,13 @@ fn main() {
                 results.push((spec.clone(), r));
             }
             Err(e) => {
-                eprintln!("\nerror in {}: {e}", spec.name);
-                std::process::exit(1);
+                bar.abandon();
+                return Err(format!("in {}: {e}", spec.name));
             }
         }
+        bar.inc(1);
     }
-    progress(specs.len(), specs.len(), "done", started);
-    eprintln!();
+    bar.finish_and_clear();
 
     let time_of = |name: &str| {
         results
@@ -264,44 +258,32 @@ fn main() {
         );
     }
 
-    if let Err(e) = std::fs::create_dir_all(&args.out) {
-        eprintln!("cannot create {}: {e}", args.out.display());
-        std::process::exit(1);
-    }
-    let mut csv = String::from(
-        "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,time_s,speedup_brute,speedup_stock,deviation_radii,violations,hanging,launch,penetration,escape,mean_groups,max_group_variables,mean_awake,final_awake,last_second_s,left_plane\n",
-    );
-    for (spec, r) in &results {
-        let sw = match &spec.mode {
-            Mode::Layer(s) => [
-                s.cache, s.tweak, s.reduce, s.zero, s.damp, s.subgroup, s.fixate,
-            ]
-            .map(|b| b as u8)
-            .map(|b| b.to_string()),
-            _ => std::array::from_fn(|_| String::new()),
-        };
-        csv += &format!(
-            "{},{:?},{},{:.6},{:.4},{:.4},{:.6},{},{},{},{},{},{:.3},{},{:.3},{},{:.6},{}\n",
-            r.name,
-            kind_of(spec),
-            sw.join(","),
-            r.time_s,
-            ratio(brute, r.time_s),
-            ratio(stock, r.time_s),
-            r.deviation,
-            r.violations.total(),
-            r.violations.hanging,
-            r.violations.launch,
-            r.violations.penetration,
-            r.violations.escape,
-            r.mean_groups,
-            r.max_largest_variables,
-            r.mean_awake,
-            r.final_awake,
-            r.tail_time_s,
-            r.left_region
-        );
-    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    let rows = results.iter().map(|(spec, r)| {
+        let mut row = vec![r.name.clone(), format!("{:?}", kind_of(spec))];
+        row.extend(super::switch_fields(spec));
+        row.extend([
+            format!("{:.6}", r.time_s),
+            format!("{:.4}", ratio(brute, r.time_s)),
+            format!("{:.4}", ratio(stock, r.time_s)),
+            format!("{:.6}", r.deviation),
+            r.violations.total().to_string(),
+            r.violations.hanging.to_string(),
+            r.violations.launch.to_string(),
+            r.violations.penetration.to_string(),
+            r.violations.escape.to_string(),
+            format!("{:.3}", r.mean_groups),
+            r.max_largest_variables.to_string(),
+            format!("{:.3}", r.mean_awake),
+            r.final_awake.to_string(),
+            format!("{:.6}", r.tail_time_s),
+            r.left_region.to_string(),
+        ]);
+        row
+    });
+    super::write_csv(&args.out.join("results.csv"), &CSV_HEADER, rows)?;
+
     let points: Vec<ChartPoint> = results
         .iter()
         .filter(|(_, r)| r.deviation.is_finite())
@@ -327,14 +309,10 @@ fn main() {
     };
     let write = |name: &str, bytes: &[u8]| {
         let path = args.out.join(name);
-        if let Err(e) = std::fs::write(&path, bytes) {
-            eprintln!("cannot write {}: {e}", path.display());
-            std::process::exit(1);
-        }
+        std::fs::write(&path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
-    write("results.csv", csv.as_bytes());
-    write("chart.svg", report::svg(&points, &spec).as_bytes());
-    write("chart.png", &report::png(&points, &spec));
+    write("chart.svg", report::svg(&points, &spec).as_bytes())?;
+    write("chart.png", &report::png(&points, &spec))?;
     let front = report::pareto_front(&points, true);
     println!("\nPareto front (zero violations), by deviation:");
     let mut f: Vec<&ChartPoint> = front.iter().map(|&i| &points[i]).collect();
@@ -383,4 +361,25 @@ fn main() {
         args.out.display(),
         started.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn configuration_lists() {
+        let all = parse_configs("all").unwrap().0;
+        assert_eq!(all.len(), 1 + 3 + 1 + 128 + 128);
+        assert_eq!(all[0].name, "reference");
+        let some = parse_configs("brute, C-----F+repair,127").unwrap().0;
+        let names: Vec<&str> = some.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names[..2], ["reference", "brute force"]);
+        assert!(some[2].repair && !some[3].repair);
+        assert_eq!(kind_of(&some[2]), PointKind::Repaired);
+        assert_eq!(kind_of(&some[1]), PointKind::BruteForce);
+        assert_eq!(kind_of(&RunSpec::stock()), PointKind::StockRapier);
+        assert!(parse_configs("bogus").unwrap_err().contains("bogus"));
+    }
 }
