@@ -13,8 +13,13 @@
 //! turns amber once its support has gone. With `--repair` the monitor repairs instead:
 //! the sphere is released the step after its support leaves and falls.
 //!
+//! Over the bodies, the contact graph is drawn as the plugin's `GraphOverlay` draws it
+//! into any Rapier debug renderer: touching edges between bodies in their contact
+//! group's colour, dashed trigger edges, and a state marker per body (`--no-graph`
+//! leaves it out).
+//!
 //! ```text
-//! cargo lab frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]
+//! cargo lab frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair] [--no-graph]
 //! ```
 //! Writes `frame_0000.png`, … every `K` steps (default 10) of `N` steps (default 400)
 //! into `DIR` (default `target/frames`) and prints each path with the body counts per
@@ -26,7 +31,7 @@ use std::time::Instant;
 use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
-use rapier_contact_graph::{ContactLayer, WorldView};
+use rapier_contact_graph::{ContactLayer, GraphOverlay, WorldView};
 
 use crate::report::frames::{violating_bodies, Camera, Classifier, Renderer, Shade, View};
 
@@ -52,6 +57,11 @@ pub struct Args {
     /// Let the monitor repair (release the hanging sphere) instead of only reporting.
     #[arg(long)]
     pub repair: bool,
+    /// Leave out the contact graph drawn over the bodies (the plugin's
+    /// `GraphOverlay`: touching and trigger edges, contact groups by colour, a state
+    /// marker per body).
+    #[arg(long)]
+    pub no_graph: bool,
 }
 
 /// `--view`.
@@ -110,6 +120,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     // Before the first step: the fixated bodies turn fixed later and stay coloured.
     let renderer = Renderer::new(camera).with_fixed_as_scenery(&scene.world);
 
+    let mut overlay = (!args.no_graph).then(GraphOverlay::default);
     let dt = scene.world.integration_parameters.dt;
     let started = Instant::now();
     let (mut render_time, mut write_time, mut bytes) = (0.0, 0.0, 0usize);
@@ -132,11 +143,12 @@ pub fn run(args: &Args) -> Result<(), String> {
             step as Real * dt
         );
         let frame =
-            renderer.render_with(&scene.world, &|h| classes.shade(h), &caption, |_backend| {
-                // ---- OVERLAY: the second pass into the same DebugRenderBackend. ----
-                // The plugin's drawing of the contact graph (touching / trigger /
-                // structural edges, groups, states) goes here, e.g.
-                // `rapier_contact_graph::debug::draw(&layer, &scene.world, _backend)`.
+            renderer.render_with(&scene.world, &|h| classes.shade(h), &caption, |backend| {
+                // The second pass into the same DebugRenderBackend: the contact graph
+                // as the plugin draws it into any Rapier debug renderer.
+                if let Some(overlay) = overlay.as_mut() {
+                    overlay.render(backend, &layer, &scene.world.bodies, &scene.world.colliders);
+                }
             });
         let t1 = Instant::now();
         let path = args.out.join(format!("frame_{:04}.png", step / args.every));
