@@ -29,7 +29,7 @@ use crate::coherence::{Coherence, RemovedNode, Screen, WalkCounters};
 use crate::events::{Event, EventBus, Filter, SubscriptionId};
 use crate::graph::{Category, ContactGraph, Edge, EdgeId, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::{GroupStats, Groups};
-use crate::hooks::HooksView;
+use crate::logic::hooks::HooksView;
 use crate::logic::{Logic, Rule, WorldMut};
 use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig};
 use crate::speedups::{SpeedUpState, SpeedUps};
@@ -350,7 +350,7 @@ impl ContactLayer {
         for n in changed.into_iter().chain(created) {
             if let Some(h) = self.graph.body_of(n) {
                 let mut sink = Vec::new();
-                crate::coherence::nodes::ensure_body_node(&mut self.graph, &view, h, &mut sink);
+                crate::graph::mirror::ensure_body_node(&mut self.graph, &view, h, &mut sink);
             }
             self.groups.disturb(&mut self.graph, n);
         }
@@ -421,7 +421,7 @@ impl ContactLayer {
             let held = |h: RigidBodyHandle| self.holds(view.bodies, h);
             let pushed = std::mem::take(&mut m.pushed);
             m.monitor.check_with_quarantine(
-                self,
+                self.analysis_view(),
                 &view,
                 &held,
                 &|h| pushed.contains(&h),
@@ -920,6 +920,17 @@ impl ContactLayer {
         &self.coherence
     }
 
+    /// What the plausibility monitor reads of the last analysis (graph, groups,
+    /// analysis, speed-ups). O(1).
+    pub fn analysis_view(&self) -> crate::monitor::AnalysisView<'_> {
+        crate::monitor::AnalysisView {
+            graph: &self.graph,
+            groups: &self.groups,
+            coherence: &self.coherence,
+            speedups: self.speedups(),
+        }
+    }
+
     /// The analysis state, for its settings ([`Coherence::set_scan_policy`], ...).
     pub fn coherence_mut(&mut self) -> &mut Coherence {
         &mut self.coherence
@@ -1065,5 +1076,17 @@ impl ContactLayer {
             monitor_events: s.monitor_events,
             monitor_restore: s.monitor_restore,
         }
+    }
+}
+
+impl<'a> From<&'a ContactLayer> for crate::monitor::AnalysisView<'a> {
+    fn from(layer: &'a ContactLayer) -> Self {
+        layer.analysis_view()
+    }
+}
+
+impl<'a> From<&'a mut ContactLayer> for crate::monitor::AnalysisView<'a> {
+    fn from(layer: &'a mut ContactLayer) -> Self {
+        (&*layer).analysis_view()
     }
 }

@@ -45,13 +45,13 @@ pub mod events;
 pub mod export;
 pub mod graph;
 pub mod groups;
-pub mod hooks;
 mod layer;
 pub mod logic;
 pub mod monitor;
 #[cfg(feature = "serde")]
 pub mod snapshot;
 pub mod speedups;
+mod util;
 mod validate;
 mod world;
 
@@ -65,6 +65,7 @@ pub use graph::{
 };
 pub use groups::{Group, GroupId, GroupStats, Groups};
 pub use layer::{ContactLayer, StepStats};
+pub use logic::hooks::HooksView;
 pub use logic::{Rule, WorldMut};
 #[cfg(feature = "serde")]
 pub use snapshot::{LayerSnapshot, SNAPSHOT_FORMAT};

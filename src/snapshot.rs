@@ -144,9 +144,8 @@
 //! - Serialising is linear in the same sizes; hash maps add a sort, O(k log k) for k
 //!   entries (edges for the pair map).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::fmt;
-use std::sync::Arc;
 
 use serde::de::{self, SeqAccess, Visitor};
 use serde::ser::SerializeTupleStruct;
@@ -582,245 +581,19 @@ fn bind_predicates(logic: &mut Logic, bind: PredicateResolver<'_>) -> Result<()>
 
 // ── Serde helpers for fields of the layer's types ──────────────────────────
 
-/// A rule as written in a snapshot: a predicate keeps its members, not its closure.
-#[derive(Serialize, Deserialize)]
-enum RuleRepr {
-    IgnoreBetween(Vec<NodeId>, Vec<NodeId>),
-    IgnorePair(NodeId, NodeId),
-    Predicate { members: Vec<NodeId> },
-}
-
-impl RuleRepr {
-    fn of(rule: &Rule) -> Self {
-        match rule {
-            Rule::IgnoreBetween(x, y) => RuleRepr::IgnoreBetween(x.clone(), y.clone()),
-            Rule::IgnorePair(a, b) => RuleRepr::IgnorePair(*a, *b),
-            Rule::Predicate { members, .. } => RuleRepr::Predicate {
-                members: members.clone(),
-            },
-        }
-    }
-
-    /// The rule; a predicate gets a placeholder that `restore_with` always replaces
-    /// before the layer is handed out.
-    fn into_rule(self) -> Rule {
-        match self {
-            RuleRepr::IgnoreBetween(x, y) => Rule::IgnoreBetween(x, y),
-            RuleRepr::IgnorePair(a, b) => Rule::IgnorePair(a, b),
-            RuleRepr::Predicate { members } => Rule::Predicate {
-                members,
-                ignore: Arc::new(|_, _| false),
-            },
-        }
-    }
-}
-
-fn write_rules<'a, S: Serializer>(
-    rules: impl Iterator<Item = (&'a NodeId, &'a Rule)>,
-    s: S,
-) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_seq(rules.map(|(n, r)| (*n, RuleRepr::of(r))))
-}
-
-fn read_rules<'de, D: Deserializer<'de>>(
-    d: D,
-) -> std::result::Result<impl Iterator<Item = (NodeId, Rule)>, D::Error> {
-    let v = Vec::<(NodeId, RuleRepr)>::deserialize(d)?;
-    Ok(v.into_iter().map(|(n, r)| (n, r.into_rule())))
-}
-
-/// `Logic::rules`: the rules with their nodes; predicates lose their closure.
-pub(crate) mod rules {
-    use super::*;
-
-    pub(crate) fn serialize<S: Serializer>(
-        rules: &BTreeMap<NodeId, Rule>,
-        s: S,
-    ) -> std::result::Result<S::Ok, S::Error> {
-        write_rules(rules.iter(), s)
-    }
-
-    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> std::result::Result<BTreeMap<NodeId, Rule>, D::Error> {
-        let mut map = BTreeMap::new();
-        for (n, r) in read_rules(d)? {
-            if map.insert(n, r).is_some() {
-                return Err(de::Error::custom(format!("rule {n:?} written twice")));
-            }
-        }
-        Ok(map)
-    }
-}
-
-/// `Logic::hooks`: the rule table (its index by node is rebuilt) and the contact
-/// modifications.
-pub(crate) mod layer_hooks {
-    use super::*;
-    use crate::hooks::{ContactMods, LayerHooks};
-    use crate::logic::RuleTable;
-
-    struct Rules<'a>(&'a RuleTable);
-
-    impl Serialize for Rules<'_> {
-        fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-            write_rules(self.0.entries().iter().map(|(n, r)| (n, r)), s)
-        }
-    }
-
-    struct ReadRules(Vec<(NodeId, Rule)>);
-
-    impl<'de> Deserialize<'de> for ReadRules {
-        fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-            Ok(ReadRules(read_rules(d)?.collect()))
-        }
-    }
-
-    pub(crate) fn serialize<S: Serializer>(
-        hooks: &LayerHooks,
-        s: S,
-    ) -> std::result::Result<S::Ok, S::Error> {
-        (Rules(&hooks.rules), &hooks.mods).serialize(s)
-    }
-
-    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> std::result::Result<LayerHooks, D::Error> {
-        let (rules, mods) = <(ReadRules, ContactMods)>::deserialize(d)?;
-        let mut table = RuleTable::default();
-        table.rebuild(rules.0.into_iter());
-        Ok(LayerHooks { rules: table, mods })
-    }
-}
-
-/// A key with a total order, for writing hash maps in a fixed order.
-pub(crate) trait SortKey {
-    fn sort_key(&self) -> u64;
-}
-
-impl SortKey for crate::graph::PairKey {
-    fn sort_key(&self) -> u64 {
-        self.to_bits()
-    }
-}
-
-impl SortKey for rapier3d::prelude::ColliderHandle {
-    fn sort_key(&self) -> u64 {
-        let (i, g) = self.into_raw_parts();
-        ((g as u64) << 32) | i as u64
-    }
-}
-
-impl SortKey for rapier3d::prelude::RigidBodyHandle {
-    fn sort_key(&self) -> u64 {
-        let (i, g) = self.into_raw_parts();
-        ((g as u64) << 32) | i as u64
-    }
-}
-
-impl SortKey for NodeId {
-    fn sort_key(&self) -> u64 {
-        let (i, g) = self.into_raw_parts();
-        ((g as u64) << 32) | i as u64
-    }
-}
-
-impl SortKey for crate::EdgeId {
-    fn sort_key(&self) -> u64 {
-        let (i, g) = self.into_raw_parts();
-        ((g as u64) << 32) | i as u64
-    }
-}
-
-/// A hash map written as its entries sorted by key (equal maps give equal bytes,
-/// whatever their insertion history), read back refusing repeated keys.
-pub(crate) mod sorted_map {
-    use super::*;
-    use std::hash::{BuildHasher, Hash};
-
-    pub(crate) fn serialize<K, V, H, S>(
-        map: &HashMap<K, V, H>,
-        s: S,
-    ) -> std::result::Result<S::Ok, S::Error>
-    where
-        K: Serialize + SortKey,
-        V: Serialize,
-        S: Serializer,
-    {
-        let mut entries: Vec<(&K, &V)> = map.iter().collect();
-        entries.sort_unstable_by_key(|(k, _)| k.sort_key());
-        s.collect_seq(entries)
-    }
-
-    pub(crate) fn deserialize<'de, K, V, H, D>(
-        d: D,
-    ) -> std::result::Result<HashMap<K, V, H>, D::Error>
-    where
-        K: Deserialize<'de> + Eq + Hash,
-        V: Deserialize<'de>,
-        H: BuildHasher + Default,
-        D: Deserializer<'de>,
-    {
-        let entries = Vec::<(K, V)>::deserialize(d)?;
-        let n = entries.len();
-        let mut map = HashMap::with_capacity_and_hasher(n, H::default());
-        map.extend(entries);
-        if map.len() != n {
-            return Err(de::Error::custom("a map holds a key twice"));
-        }
-        Ok(map)
-    }
-}
-
-/// A hash set written as its elements sorted, read back refusing repeats.
-pub(crate) mod sorted_set {
-    use super::*;
-    use std::collections::HashSet;
-    use std::hash::{BuildHasher, Hash};
-
-    pub(crate) fn serialize<K, H, S>(
-        set: &HashSet<K, H>,
-        s: S,
-    ) -> std::result::Result<S::Ok, S::Error>
-    where
-        K: Serialize + SortKey,
-        S: Serializer,
-    {
-        let mut keys: Vec<&K> = set.iter().collect();
-        keys.sort_unstable_by_key(|k| k.sort_key());
-        s.collect_seq(keys)
-    }
-
-    pub(crate) fn deserialize<'de, K, H, D>(d: D) -> std::result::Result<HashSet<K, H>, D::Error>
-    where
-        K: Deserialize<'de> + Eq + Hash,
-        H: BuildHasher + Default,
-        D: Deserializer<'de>,
-    {
-        let keys = Vec::<K>::deserialize(d)?;
-        let n = keys.len();
-        let mut set = HashSet::with_capacity_and_hasher(n, H::default());
-        set.extend(keys);
-        if set.len() != n {
-            return Err(de::Error::custom("a set holds an element twice"));
-        }
-        Ok(set)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rapier3d::prelude::{
         ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
     };
-    use std::collections::HashSet;
+    use std::collections::{HashMap, HashSet};
 
     #[derive(Serialize, Deserialize)]
     struct Maps {
-        #[serde(with = "sorted_map")]
+        #[serde(with = "crate::util::serde_maps::sorted_map")]
         map: HashMap<ColliderHandle, u32>,
-        #[serde(with = "sorted_set")]
+        #[serde(with = "crate::util::serde_maps::sorted_set")]
         set: HashSet<RigidBodyHandle>,
     }
 
@@ -896,19 +669,5 @@ mod tests {
             (before.bodies, before.colliders)
         );
         assert_ne!(after.digest, before.digest);
-    }
-
-    #[test]
-    fn rules_keep_everything_but_the_predicate() {
-        let (a, b) = (NodeId::from_raw_parts(1, 0), NodeId::from_raw_parts(2, 0));
-        for rule in [
-            Rule::ignore_between(&[a], &[b]),
-            Rule::ignore_pair(a, b),
-            Rule::ignore_if(&[a], |_, _| true),
-        ] {
-            let back = RuleRepr::of(&rule).into_rule();
-            assert_eq!(back.members(), rule.members());
-            assert_eq!(format!("{back:?}"), format!("{rule:?}"));
-        }
     }
 }

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::coherence::nodes::{is_static_collider_node, kind_of_body};
+use crate::graph::mirror::{is_static_collider_node, kind_of_body};
 use crate::graph::validate::edge_allowed;
 use crate::graph::{EdgeKind, NodeKind, PairBuildHasher, PairKey};
 use crate::{ContactLayer, Error, Result, WorldView};

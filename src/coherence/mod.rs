@@ -54,7 +54,7 @@
 //! node (each shows a final `Vanished` mark), [`Coherence::removed_nodes`] the nodes
 //! whose object left the world.
 
-pub(crate) mod nodes;
+use crate::graph::mirror as nodes;
 pub(crate) mod obsolete;
 pub(crate) mod pairs;
 

@@ -42,7 +42,6 @@ use rapier3d::math::Real;
 use rapier3d::prelude::RigidBodyHandle;
 
 use crate::graph::NodeId;
-use crate::monitor::ViolationKind;
 
 /// The largest capacity of a bounded subscription (crossbeam allocates it up front).
 pub const MAX_CAPACITY: usize = 1 << 24;
@@ -74,7 +73,7 @@ pub enum EventKind {
     FellAsleep = 9,
     /// A body woke up.
     WokeUp = 10,
-    /// The plausibility monitor found a violation ([`crate::monitor`], DESIGN §6):
+    /// The plausibility monitor found a violation (paper §8):
     /// `a` is the body's node, `violation` the kind, `value` the measure. Sent only
     /// with the layer's monitor in report or repair mode
     /// ([`crate::ContactLayer::set_monitor`]).
@@ -180,7 +179,7 @@ pub struct Event {
     /// violation; `None` otherwise.
     pub violation: Option<ViolationKind>,
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
-    /// [`crate::monitor::Violation::value`]); 0 otherwise.
+    /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
 }
 
@@ -293,5 +292,40 @@ impl Filter {
     /// The node restriction, if any (sorted).
     pub fn nodes(&self) -> Option<&[NodeId]> {
         self.nodes.as_deref()
+    }
+}
+
+/// The kinds of plausibility violation (paper §8, Figs. 15 and 17; defined in `docs/ARCHITECTURE.md` §6), in report order.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ViolationKind {
+    /// A held (sleeping or fixated) body without support for longer than the hang time.
+    HangingSleeper,
+    /// A contact group gained more kinetic energy than gravity could give it.
+    Launch,
+    /// A contact deeper than the allowed fraction of the smaller body's size.
+    DeepPenetration,
+    /// A body whose pose or velocity is not finite.
+    Escape,
+}
+
+impl ViolationKind {
+    /// Every kind, in report order.
+    pub const ALL: [ViolationKind; 4] = [
+        ViolationKind::HangingSleeper,
+        ViolationKind::Launch,
+        ViolationKind::DeepPenetration,
+        ViolationKind::Escape,
+    ];
+
+    /// A short stable name (`"hanging_sleeper"`, `"launch"`, `"deep_penetration"`,
+    /// `"escape"`), for tables and CSV headers.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ViolationKind::HangingSleeper => "hanging_sleeper",
+            ViolationKind::Launch => "launch",
+            ViolationKind::DeepPenetration => "deep_penetration",
+            ViolationKind::Escape => "escape",
+        }
     }
 }

@@ -21,9 +21,8 @@
 //! The graph itself is passive storage. [`crate::ContactLayer`] keeps it in step with
 //! a Rapier world; users read it.
 
-mod arena;
 mod edge;
-mod id;
+pub(crate) mod mirror;
 mod node;
 pub(crate) mod validate;
 
@@ -32,10 +31,10 @@ use std::collections::HashMap;
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
-pub(crate) use arena::Arena;
+pub(crate) use crate::util::arena::Arena;
+pub use crate::util::id::{EdgeId, NodeId, PairBuildHasher, PairHasher, PairKey};
 pub use edge::{ContactCache, Edge, EdgeKind, Transition};
-pub use id::{EdgeId, NodeId, PairBuildHasher, PairHasher, PairKey};
-pub use node::{Category, Node, NodeKind, NodeSource};
+pub use node::{Category, ContainerSource, Node, NodeKind, NodeSource};
 
 use crate::{Error, Result};
 
@@ -49,7 +48,7 @@ use crate::{Error, Result};
 pub struct ContactGraph {
     pub(crate) nodes: Arena<Node>,
     pub(crate) edges: Arena<Edge>,
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     pairs: HashMap<PairKey, EdgeId, PairBuildHasher>,
     /// Body handle index → node (checked against the node's source for generation).
     body_nodes: Vec<Option<NodeId>>,

@@ -110,7 +110,7 @@ pub enum NodeSource {
     /// A sensor collider (a trigger volume).
     Sensor(ColliderHandle),
     /// A container derived from Rapier's joints.
-    Container(crate::logic::ContainerSource),
+    Container(ContainerSource),
     /// A node that only the layer knows (rules, timers, declared composites); the
     /// number is the layer's serial number for it.
     Layer(u64),
@@ -230,5 +230,53 @@ impl Node {
     #[inline]
     pub fn group(&self) -> Option<crate::GroupId> {
         self.group
+    }
+}
+
+/// What a container derived from Rapier's joints is keyed by.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ContainerSource {
+    /// A Rapier multibody, keyed by its root body.
+    Multibody(RigidBodyHandle),
+    /// Bodies joined by impulse joints, not all fixed; keyed by the component's first
+    /// body (smallest handle).
+    Articulation(RigidBodyHandle),
+    /// Bodies joined by fixed impulse joints only; keyed like an articulation.
+    Composite(RigidBodyHandle),
+}
+
+impl ContainerSource {
+    /// A total order key: variant, then the body's raw handle parts.
+    fn order_key(self) -> (u8, u32, u32) {
+        let (t, h) = match self {
+            ContainerSource::Multibody(h) => (0, h),
+            ContainerSource::Articulation(h) => (1, h),
+            ContainerSource::Composite(h) => (2, h),
+        };
+        let (i, g) = h.into_raw_parts();
+        (t, i, g)
+    }
+}
+
+impl PartialOrd for ContainerSource {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for ContainerSource {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.order_key().cmp(&other.order_key())
+    }
+}
+
+impl ContainerSource {
+    /// The node kind of the container: a composite, or a multibody.
+    pub(crate) fn kind(self) -> NodeKind {
+        match self {
+            ContainerSource::Composite(_) => NodeKind::Composite,
+            _ => NodeKind::Multibody,
+        }
     }
 }

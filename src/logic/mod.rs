@@ -35,7 +35,10 @@
 //! motion is unchanged).
 
 pub(crate) mod containers;
+pub mod hooks;
 pub(crate) mod rules;
+#[cfg(feature = "serde")]
+pub(crate) mod serde_rules;
 pub(crate) mod timers;
 
 use std::collections::{BTreeMap, HashMap};
@@ -47,7 +50,7 @@ use rapier3d::prelude::{
     RigidBodyHandle, RigidBodySet,
 };
 
-pub use containers::ContainerSource;
+pub use crate::graph::ContainerSource;
 pub use rules::{IgnorePredicate, Rule, RuleTable};
 
 use crate::graph::{ContactGraph, NodeId, NodeSource};
@@ -111,16 +114,19 @@ const RULE_HOOKS: ActiveHooks =
 #[derive(Clone, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Logic {
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::rules"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::logic::serde_rules::rules"))]
     pub(crate) rules: BTreeMap<NodeId, Rule>,
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::layer_hooks"))]
-    pub(crate) hooks: crate::hooks::LayerHooks,
+    #[cfg_attr(
+        feature = "serde",
+        serde(with = "crate::logic::serde_rules::layer_hooks")
+    )]
+    pub(crate) hooks: crate::logic::hooks::LayerHooks,
     rules_dirty: bool,
     /// Colliders we flagged, with the flags they had before.
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     flagged: HashMap<ColliderHandle, ActiveHooks>,
     /// Sensors we widened, with the collision types they had before.
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     widened: HashMap<ColliderHandle, ActiveCollisionTypes>,
     pub(crate) widen_sensors: bool,
     pub(crate) timers: timers::Timers,

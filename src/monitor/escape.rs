@@ -17,7 +17,7 @@ use super::{Ctx, Violation, ViolationKind};
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Escape {
     /// Bodies in a reported episode.
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_set"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_set"))]
     escaped: HashSet<RigidBodyHandle>,
     /// Scratch.
     look: Vec<RigidBodyHandle>,

@@ -41,7 +41,7 @@ struct Timed {
 #[derive(Clone, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Hanging {
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     timed: HashMap<RigidBodyHandle, Timed>,
     /// The gravity of the last check (a change re-judges every held body).
     gravity: Option<Vector>,

@@ -42,7 +42,7 @@ struct BodyState {
 #[derive(Clone, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Launch {
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     state: HashMap<RigidBodyHandle, BodyState>,
     /// Scratch: this step's groups, and the members of groups with excess energy.
     groups: Vec<GroupId>,

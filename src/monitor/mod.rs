@@ -77,8 +77,12 @@ pub use repair::{LayerMonitor, MonitorMode, RepairConfig, RepairCounts};
 use rapier3d::math::Real;
 use rapier3d::prelude::RigidBodyHandle;
 
-use crate::graph::NodeId;
-use crate::{ContactLayer, Error, Result, WorldView};
+use crate::coherence::{Coherence, RemovedNode};
+pub use crate::events::ViolationKind;
+use crate::graph::{ContactGraph, NodeId};
+use crate::groups::Groups;
+use crate::speedups::SpeedUpState;
+use crate::{Error, Result, WorldView};
 
 /// Thresholds of the detectors (DESIGN §6 gives the defaults).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,41 +166,6 @@ impl MonitorConfig {
             });
         }
         Ok(())
-    }
-}
-
-/// The kinds of plausibility violation (DESIGN §6), in report order.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum ViolationKind {
-    /// A held (sleeping or fixated) body without support for longer than the hang time.
-    HangingSleeper,
-    /// A contact group gained more kinetic energy than gravity could give it.
-    Launch,
-    /// A contact deeper than the allowed fraction of the smaller body's size.
-    DeepPenetration,
-    /// A body whose pose or velocity is not finite.
-    Escape,
-}
-
-impl ViolationKind {
-    /// Every kind, in report order.
-    pub const ALL: [ViolationKind; 4] = [
-        ViolationKind::HangingSleeper,
-        ViolationKind::Launch,
-        ViolationKind::DeepPenetration,
-        ViolationKind::Escape,
-    ];
-
-    /// A short stable name (`"hanging_sleeper"`, `"launch"`, `"deep_penetration"`,
-    /// `"escape"`), for tables and CSV headers.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ViolationKind::HangingSleeper => "hanging_sleeper",
-            ViolationKind::Launch => "launch",
-            ViolationKind::DeepPenetration => "deep_penetration",
-            ViolationKind::Escape => "escape",
-        }
     }
 }
 
@@ -315,9 +284,59 @@ pub struct Monitor {
     last_step: Option<u64>,
 }
 
+/// What the monitor reads of a layer's last analysis: the graph, the contact groups,
+/// the analysis' record of what it refreshed and removed, and the speed-ups' state.
+/// The monitor takes this view, not the layer, so that it sits below the layer
+/// (`docs/ARCHITECTURE.md` §2). `ContactLayer::analysis_view` makes one, and
+/// `&ContactLayer` converts into one, so `monitor.check(&layer, ...)` reads as before.
+/// Copying it is free (references and a step number).
+#[derive(Clone, Copy, Debug)]
+pub struct AnalysisView<'a> {
+    /// The contact graph.
+    pub graph: &'a ContactGraph,
+    /// The contact groups.
+    pub groups: &'a Groups,
+    /// The analysis: refreshed nodes and edges, removed nodes, the step.
+    pub coherence: &'a Coherence,
+    /// The speed-ups' state, when they are on.
+    pub speedups: Option<&'a SpeedUpState>,
+}
+
+impl<'a> AnalysisView<'a> {
+    /// The contact graph. O(1).
+    pub fn graph(&self) -> &'a ContactGraph {
+        self.graph
+    }
+
+    /// The contact groups. O(1).
+    pub fn groups(&self) -> &'a Groups {
+        self.groups
+    }
+
+    /// The analysis of the last step. O(1).
+    pub fn coherence(&self) -> &'a Coherence {
+        self.coherence
+    }
+
+    /// The speed-ups' state, when they are on. O(1).
+    pub fn speedups(&self) -> Option<&'a SpeedUpState> {
+        self.speedups
+    }
+
+    /// The last analysed step. O(1).
+    pub fn current_step(&self) -> u64 {
+        self.coherence.step()
+    }
+
+    /// The nodes the last analysis removed. O(1).
+    pub fn removed_nodes(&self) -> &'a [RemovedNode] {
+        self.coherence.removed_nodes()
+    }
+}
+
 /// What every detector reads in one check.
 pub(crate) struct Ctx<'a, 'w> {
-    pub layer: &'a ContactLayer,
+    pub layer: AnalysisView<'a>,
     pub view: &'a WorldView<'w>,
     pub step: u64,
     /// A step passed since the last check (false when `check` is called twice for one
@@ -369,28 +388,29 @@ impl Monitor {
     ///
     /// Cost: O(refreshed bodies + members of their contact groups + edges refreshed in
     /// the step + open episodes); see the module docs.
-    pub fn check(
+    pub fn check<'a>(
         &mut self,
-        layer: &ContactLayer,
+        layer: impl Into<AnalysisView<'a>>,
         view: &WorldView,
         held: &dyn Fn(RigidBodyHandle) -> bool,
         excepted: &dyn Fn(RigidBodyHandle) -> bool,
     ) -> &[Violation] {
-        self.check_with_quarantine(layer, view, held, excepted, view.quarantined)
+        self.check_with_quarantine(layer.into(), view, held, excepted, view.quarantined)
     }
 
     /// [`Self::check`] with an explicit list of the bodies Rapier's NaN quarantine
     /// reset and disabled in the step, each an escape (once per episode: a body already
     /// reported escaped is not reported again). [`Self::check`] takes them from
     /// [`WorldView::quarantined`].
-    pub fn check_with_quarantine(
+    pub fn check_with_quarantine<'a>(
         &mut self,
-        layer: &ContactLayer,
+        layer: impl Into<AnalysisView<'a>>,
         view: &WorldView,
         held: &dyn Fn(RigidBodyHandle) -> bool,
         excepted: &dyn Fn(RigidBodyHandle) -> bool,
         quarantined: &[RigidBodyHandle],
     ) -> &[Violation] {
+        let layer = layer.into();
         let step = layer.current_step();
         let ctx = Ctx {
             layer,
@@ -490,7 +510,7 @@ impl Monitor {
 
 /// The node kinds the solver moves (the bodies whose energy and support matter).
 #[inline]
-pub(crate) fn simulated(layer: &ContactLayer, n: NodeId) -> Option<RigidBodyHandle> {
+pub(crate) fn simulated(layer: AnalysisView, n: NodeId) -> Option<RigidBodyHandle> {
     let node = layer.graph().node(n)?;
     if node.kind().is_simulated() {
         node.body()

@@ -21,10 +21,10 @@ use crate::WorldView;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Penetration {
     /// Edges in a reported deep episode.
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_set"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_set"))]
     deep: HashSet<EdgeId>,
     /// Node → (collider count when measured, size).
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::sorted_map"))]
+    #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     sizes: HashMap<NodeId, (usize, Real)>,
     /// The deepest contact of the last check relative to its limit, with the node of
     /// one of its bodies (for the repair's early warning).

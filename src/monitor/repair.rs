@@ -367,7 +367,7 @@ impl LayerMonitor {
         graph: &ContactGraph,
         groups: &Groups,
         mut speedups: Option<&mut SpeedUpState>,
-        mods: &mut crate::hooks::ContactMods,
+        mods: &mut crate::logic::hooks::ContactMods,
         woken: &mut Vec<NodeId>,
     ) {
         let step = self.step;

@@ -15,7 +15,7 @@
 //!   starts again.
 //! - **cache**: Rapier's contact recycling and warm start, both on; off, both off.
 //! - **tweak**: `num_solver_iterations` = `tweak_iterations` instead of `iterations`.
-//! - **reduce** and **zero**: `modify_solver_contacts` ([`crate::hooks`]), with the hook
+//! - **reduce** and **zero**: `modify_solver_contacts` ([`crate::logic::hooks`]), with the hook
 //!   flag on the colliders concerned only (all dynamic colliders for reduce, sleepy
 //!   bodies' colliders for zero). A flagged pair is never contact-recycled: that is
 //!   part of these switches' real cost in Rapier, and the DIKU run measures it.
@@ -55,7 +55,7 @@ use rapier3d::math::{Pose, Vector};
 use rapier3d::prelude::{ActiveHooks, ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
-use crate::hooks::ContactMods;
+use crate::logic::hooks::ContactMods;
 use crate::logic::WorldMut;
 use crate::WorldView;
 

@@ -1,8 +1,9 @@
-//! Node upkeep: bodies, static colliders and sensors (triggers) become nodes;
-//! removed ones go.
+//! The graph's mirror of Rapier's sets: bodies, static colliders and sensors
+//! (triggers) become nodes; removed ones go. The coherence analysis and the
+//! containers both create nodes through these functions.
 //!
 //! Why not scan every body every step: a settled scene's step costs Rapier a few
-//! microseconds, and the layer must cost in proportion to what moves (DESIGN §7). So
+//! microseconds, and the layer must cost in proportion to what moves (`docs/ARCHITECTURE.md` §6). So
 //! the per-step work touches only the bodies awake now or awake at the last update
 //! (the second set catches bodies that just fell asleep, turned fixed or were removed).
 //! A full scan runs only when the number of bodies or colliders changed, or when the

@@ -1,0 +1,9 @@
+//! Leaf utilities, below the graph: generational ids and the sorted pair key
+//! ([`id`]), the slot arena with free lists ([`arena`]), and the serde helpers that
+//! write hash maps in a fixed order ([`serde_maps`], feature `serde`). Nothing here
+//! imports from another module of the crate.
+
+pub(crate) mod arena;
+pub(crate) mod id;
+#[cfg(feature = "serde")]
+pub(crate) mod serde_maps;
