@@ -2,11 +2,14 @@
 //! `mod common;`.
 //!
 //! - [`build`]: world-building shorthands (`ground`, `ball_at`, `box_at`, ...);
+//! - [`audit`]: the bad-input audit's helpers (`no_panic`, stale and foreign ids, the
+//!   ball-on-ground world the `bad_input_*` tests start from);
 //! - [`contract`]: a subscriber that checks the listener contract of `events`;
 //! - [`scene`]: running a scene validated after every step, and naming its nodes for
 //!   snapshots (re-exported here).
 #![allow(dead_code)]
 
+pub mod audit;
 pub mod build;
 pub mod contract;
 pub mod scene;
