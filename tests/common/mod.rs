@@ -7,6 +7,11 @@
 //! - [`contract`]: a subscriber that checks the listener contract of `events`;
 //! - [`scene`]: running a scene validated after every step, and naming its nodes for
 //!   snapshots (re-exported here).
+//!
+//! `fuzz/` is the fuzz harness. It is no module of `common`: `tests/fuzz_operations.rs`
+//! includes it as its module `harness` (with `#[path]`), so that the cargo-fuzz target,
+//! which includes that file, gets it too; the regression binaries that replay
+//! sequences include it the same way.
 #![allow(dead_code)]
 
 pub mod audit;
