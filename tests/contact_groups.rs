@@ -5,6 +5,7 @@ mod common;
 
 use std::collections::{BTreeSet, HashMap};
 
+use common::build::box_at;
 use petgraph::unionfind::UnionFind;
 use rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, EdgeKind, NodeId};
@@ -103,10 +104,7 @@ fn a_scripted_platform_insulates_the_boxes_it_carries() {
         ColliderBuilder::cuboid(3.0, 0.1, 1.0),
     );
     for x in [-2.0, 2.0] {
-        world.insert(
-            RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.36, 0.0)),
-            ColliderBuilder::cuboid(0.25, 0.25, 0.25),
-        );
+        box_at(&mut world, [x, 0.36, 0.0], 0.25);
     }
     let scene = Scene {
         name: "platform_two_boxes",

@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::build::{ball_at, box_at};
 use common::contract::ContractLog;
 use rapier3d::prelude::*;
 use rapier_contact_graph::events::EventKind;
@@ -213,10 +214,7 @@ fn trigger_zoo() -> (PhysicsWorld, Vec<(&'static str, RigidBodyHandle)>) {
         RigidBodyBuilder::fixed().translation(Vector::new(0.0, 2.0, 0.0)),
         ColliderBuilder::cuboid(2.0, 2.0, 2.0).sensor(true),
     );
-    let (ball, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 6.0, 0.0)),
-        ColliderBuilder::ball(0.3),
-    );
+    let (ball, _) = ball_at(&mut world, [0.0, 6.0, 0.0], 0.3);
     let (slider, _) = world.insert(
         RigidBodyBuilder::kinematic_velocity_based()
             .translation(Vector::new(-5.0, 3.0, 1.0))
@@ -234,10 +232,7 @@ fn trigger_zoo() -> (PhysicsWorld, Vec<(&'static str, RigidBodyHandle)>) {
         ColliderBuilder::cuboid(0.25, 0.25, 0.25),
     );
     // A trigger carried by a dynamic body, falling onto the sleeper's region.
-    let (carrier, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(-1.0, 8.0, -1.0)),
-        ColliderBuilder::ball(0.2),
-    );
+    let (carrier, _) = ball_at(&mut world, [-1.0, 8.0, -1.0], 0.2);
     world.insert_collider(ColliderBuilder::ball(0.6).sensor(true), Some(carrier));
     let names = vec![
         ("ground", ground),
@@ -342,14 +337,7 @@ fn joints_make_containers_with_structural_edges() {
         RigidBodyBuilder::fixed(),
         ColliderBuilder::cuboid(10.0, 0.5, 10.0).translation(Vector::new(0.0, -0.5, 0.0)),
     );
-    let bx = |world: &mut PhysicsWorld, x: f32| {
-        world
-            .insert(
-                RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.5, 0.0)),
-                ColliderBuilder::cuboid(0.25, 0.25, 0.25),
-            )
-            .0
-    };
+    let bx = |world: &mut PhysicsWorld, x: f32| box_at(world, [x, 0.5, 0.0], 0.25).0;
     let (a, b, c, d) = (
         bx(&mut world, -3.0),
         bx(&mut world, -2.4),
@@ -415,14 +403,8 @@ fn multibody_links_are_link_nodes_of_one_multibody() {
         RigidBodyBuilder::fixed().translation(Vector::new(0.0, 3.0, 0.0)),
         ColliderBuilder::ball(0.1),
     );
-    let (l0, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 3.0, 0.0)),
-        ColliderBuilder::ball(0.2),
-    );
-    let (l1, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(2.0, 3.0, 0.0)),
-        ColliderBuilder::ball(0.2),
-    );
+    let (l0, _) = ball_at(&mut world, [1.0, 3.0, 0.0], 0.2);
+    let (l1, _) = ball_at(&mut world, [2.0, 3.0, 0.0], 0.2);
     let j = RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(-1.0, 0.0, 0.0));
     world.insert_multibody_joint(anchor, l0, j).unwrap();
     world.insert_multibody_joint(l0, l1, j).unwrap();

@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::build::box_at;
 use common::{pose_bits, run_validated};
 use crossbeam_channel::Receiver;
 use rapier3d::prelude::*;
@@ -300,14 +301,7 @@ fn overlapping_boxes_thrown(mode: MonitorMode) -> (Real, u64, u64) {
         RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.5, 0.0)),
         ColliderBuilder::cuboid(10.0, 0.5, 10.0),
     );
-    let boxes = [0.0, 0.2].map(|x| {
-        world
-            .insert(
-                RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.25, 0.0)),
-                ColliderBuilder::cuboid(0.25, 0.25, 0.25),
-            )
-            .0
-    });
+    let boxes = [0.0, 0.2].map(|x| box_at(&mut world, [x, 0.25, 0.0], 0.25).0);
     let mut layer = ContactLayer::new();
     layer
         .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())

@@ -9,6 +9,7 @@ mod common;
 
 use std::sync::Arc;
 
+use common::build::ball_at;
 use common::pose_bits;
 use crossbeam_channel::Receiver;
 use rapier3d::prelude::*;
@@ -384,13 +385,7 @@ fn logic_scene() -> (Scene, ContactLayer, NodeId, RigidBodyHandle) {
     let mut scene = scenes::pendulum_wall();
     let ground = scene.body("ground").unwrap();
     let w = &mut scene.world;
-    let ball = |w: &mut PhysicsWorld, x: f32, y: f32| {
-        w.insert(
-            RigidBodyBuilder::dynamic().translation(Vector::new(x, y, 1.5)),
-            ColliderBuilder::ball(0.2),
-        )
-        .0
-    };
+    let ball = |w: &mut PhysicsWorld, x: f32, y: f32| ball_at(w, [x, y, 1.5], 0.2).0;
     let ghost = ball(w, 2.0, 1.0);
     let picky = ball(w, 3.0, 1.0);
     let sleeper = ball(w, -2.0, 0.5);
@@ -548,10 +543,7 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
             unreachable!()
         };
         world.remove_body(gone);
-        world.insert(
-            RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 8.0, -0.3)),
-            ColliderBuilder::ball(0.3),
-        );
+        ball_at(world, [0.2, 8.0, -0.3], 0.3);
         let (na, nb) = (
             layer.node_of_body(a).unwrap(),
             layer.node_of_body(b).unwrap(),

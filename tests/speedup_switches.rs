@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::build::box_at;
 use rapier3d::prelude::*;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error};
@@ -151,10 +152,7 @@ fn sunk_box() -> (
         RigidBodyBuilder::fixed(),
         ColliderBuilder::cuboid(5.0, 0.5, 5.0).translation(Vector::new(0.0, -0.5, 0.0)),
     );
-    let (b, c) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.45, 0.0)),
-        ColliderBuilder::cuboid(0.5, 0.5, 0.5),
-    );
+    let (b, c) = box_at(&mut world, [0.0, 0.45, 0.0], 0.5);
     (world, b, g, c)
 }
 

@@ -8,63 +8,15 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::MonitorConfig;
 use rapier_contact_graph::speedups::SpeedUps;
-use rapier_contact_graph::{ContactLayer, Error};
+use rapier_contact_graph::Error;
 use rcg_lab::measure::{self, Mode, RunOptions, RunSpec, Trajectory};
 use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
 use rcg_scenes as scenes;
 
-const DT: f32 = 0.01;
+#[path = "../../tests/common/mod.rs"]
+mod common;
 
-/// A fixed ground and a ball resting on it (dt = 0.01, gravity -9.81).
-fn ball_on_ground() -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle) {
-    let mut world = PhysicsWorld::new();
-    world.integration_parameters.dt = DT;
-    let (ground, _) = world.insert(
-        RigidBodyBuilder::fixed(),
-        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
-    );
-    let (ball, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
-        ColliderBuilder::ball(0.5),
-    );
-    (world, ground, ball)
-}
-
-/// [`ball_on_ground`] stepped `n` times with a layer.
-fn stepped(n: usize) -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle, ContactLayer) {
-    let (mut world, ground, ball) = ball_on_ground();
-    let mut layer = ContactLayer::new();
-    for _ in 0..n {
-        layer.step(&mut world);
-    }
-    (world, ground, ball, layer)
-}
-
-/// Handles this world never issued: the next generation of a live slot, a slot far
-/// past the end, Rapier's `invalid()`.
-fn foreign_bodies(h: RigidBodyHandle) -> [RigidBodyHandle; 3] {
-    let (i, g) = h.into_raw_parts();
-    [
-        RigidBodyHandle::from_raw_parts(i, g + 1),
-        RigidBodyHandle::from_raw_parts(1_000_000, 0),
-        RigidBodyHandle::invalid(),
-    ]
-}
-
-/// Runs `f`, turning a panic into a test failure that names `what`.
-fn no_panic<R>(what: &str, f: impl FnOnce() -> R) -> R {
-    match catch_unwind(AssertUnwindSafe(f)) {
-        Ok(r) => r,
-        Err(e) => {
-            let msg = e
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            panic!("{what} panicked: {msg}");
-        }
-    }
-}
+use common::audit::*;
 
 #[test]
 fn deviation_with_empty_mismatched_and_bad_radius() {

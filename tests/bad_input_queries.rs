@@ -1,0 +1,175 @@
+//! Bad-input audit (see `tests/common/audit.rs`): the layer's queries —
+//! `node_of_body`, `kind_of`, `is_supported`, `insulates`, `node_of_collider`,
+//! `validate` / `validate_view` against a foreign world, the accessors of a fresh
+//! layer and the errors' messages, and `Groups::get` with a dissolved group.
+
+mod common;
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, EdgeId, Error, NodeId, NodeKind, WorldView};
+
+use common::audit::*;
+use common::build::*;
+
+#[test]
+fn layer_node_queries_with_bad_ids() {
+    let (mut world, _, ball, mut layer) = stepped(2);
+    let (stale, removed) = stale_node(&mut layer, &mut world);
+    assert_eq!(
+        layer.node_of_body(removed),
+        Err(Error::UnknownBody(removed))
+    );
+    for f in foreign_bodies(ball) {
+        assert_eq!(layer.node_of_body(f), Err(Error::UnknownBody(f)));
+    }
+    let b = layer.node_of_body(ball).unwrap();
+    for n in [stale].into_iter().chain(foreign_nodes(b)) {
+        assert_eq!(layer.kind_of(n), Err(Error::StaleNode(n)));
+        assert_eq!(layer.is_supported(n), Err(Error::StaleNode(n)));
+        assert!(!layer.insulates(n));
+    }
+    assert_eq!(layer.kind_of(b), Ok(NodeKind::Rigid));
+    // Non-finite gravity of the last analysed world: an error, not an answer.
+    world.gravity = Vector::splat(Real::NAN);
+    layer.step(&mut world);
+    assert_eq!(layer.is_supported(b), Err(Error::NonFinite("gravity")));
+}
+
+#[test]
+fn node_of_collider_with_bad_handles() {
+    let (mut world, _, _, mut layer) = stepped(2);
+    let c = world.colliders.iter().next().unwrap().0;
+    for f in foreign_colliders(c) {
+        assert_eq!(
+            layer.node_of_collider(&world, f),
+            Err(Error::UnknownCollider(f))
+        );
+    }
+    // Removed collider.
+    let (h, hc) = ball_at(&mut world, [3.0, 1.0, 0.0], 0.5);
+    layer.step(&mut world);
+    assert!(layer.node_of_collider(&world, hc).is_ok());
+    world.remove_body(h);
+    layer.step(&mut world);
+    assert_eq!(
+        layer.node_of_collider(&world, hc),
+        Err(Error::UnknownCollider(hc))
+    );
+    // A world the layer never saw: answered from that world's parent handle, which is
+    // unknown here (or aliases a body of the same slot: handles carry no world).
+    let mut other = PhysicsWorld::new();
+    for _ in 0..5 {
+        other.insert_body(RigidBodyBuilder::dynamic());
+    }
+    let (_, oc) = other.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(1.0));
+    assert!(matches!(
+        layer.node_of_collider(&other, oc),
+        Err(Error::UnknownBody(_))
+    ));
+}
+
+#[test]
+// Fixed: the bug this test was written for (see the audit table).
+fn bug_node_of_collider_parentless_sensor() {
+    let (mut world, _, _) = ball_on_ground();
+    let s = world.insert_collider(
+        ColliderBuilder::ball(1.0)
+            .sensor(true)
+            .translation(Vector::new(0.0, 3.0, 0.0)),
+        None,
+    );
+    let mut layer = ContactLayer::new();
+    layer.step(&mut world);
+    let trigger = layer.graph().node_of_sensor(s).unwrap();
+    assert_eq!(layer.node_of_collider(&world, s), Ok(trigger));
+}
+
+#[test]
+fn validate_against_a_foreign_world_is_an_error() {
+    let (_, _, _, layer) = stepped(5);
+    let empty = PhysicsWorld::new();
+    let other = foreign_world(4);
+    for w in [&empty, &other] {
+        let r = no_panic("validate(foreign world)", || layer.validate(w));
+        assert!(matches!(r, Err(Error::Invariant(_))), "{r:?}");
+        let view = WorldView {
+            gravity: Vector::splat(Real::NAN),
+            dt: Real::NAN,
+            ..WorldView::from(w)
+        };
+        assert!(no_panic("validate_view", || layer.validate_view(&view)).is_err());
+    }
+}
+
+#[test]
+fn accessors_on_a_fresh_layer_and_error_messages() {
+    let layer = ContactLayer::default();
+    assert_eq!(layer.graph().node_count(), 0);
+    assert!(layer.groups().is_empty());
+    assert_eq!(layer.stats().step, 0);
+    assert_eq!(layer.current_step(), 0);
+    assert_eq!(layer.touched_edges().count(), 0);
+    assert!(layer.removed_edges().is_empty() && layer.removed_nodes().is_empty());
+    assert!(layer.last_events().is_empty());
+    assert_eq!(layer.event_bus().len(), 0);
+    assert_eq!(layer.flagged_colliders(), 0);
+    assert_eq!(layer.simulated_time(), 0.0);
+    assert!(layer.speedups().is_none() && layer.grouping());
+    assert!(layer.hooks().table().is_empty());
+    assert!(layer.coherence().contact_details());
+    assert!(layer.refusals().is_empty());
+    // Every error names what is wrong.
+    let n = NodeId::from_raw_parts(3, 1);
+    let e = EdgeId::from_raw_parts(4, 2);
+    let h = RigidBodyHandle::from_raw_parts(5, 0);
+    let c = ColliderHandle::from_raw_parts(6, 0);
+    for (err, needle) in [
+        (Error::StaleNode(n), "n3v1"),
+        (Error::StaleEdge(e), "e4v2"),
+        (Error::UnknownBody(h), "removed"),
+        (Error::UnknownCollider(c), "collider"),
+        (
+            Error::WrongKind {
+                node: n,
+                expected: "a timer",
+            },
+            "a timer",
+        ),
+        (Error::NonFinite("gravity"), "gravity is not finite"),
+        (
+            Error::InvalidParameter {
+                name: "period",
+                reason: "must be positive".into(),
+            },
+            "period",
+        ),
+        (Error::Invariant("x".into()), "invariant"),
+        (
+            Error::Unsupported {
+                what: "set_passive(true) on a multibody link",
+                reason: "Rapier panics",
+            },
+            "multibody link is not supported: Rapier panics",
+        ),
+    ] {
+        assert!(err.to_string().contains(needle), "{err}");
+    }
+}
+
+#[test]
+fn groups_get_with_stale_group_id() {
+    let (mut world, _, ball, mut layer) = stepped(2);
+    let b = layer.node_of_body(ball).unwrap();
+    let gid = layer.graph().node(b).unwrap().group().unwrap();
+    assert!(layer.groups().get(gid).is_some());
+    world.remove_body(ball);
+    layer.step(&mut world);
+    assert!(layer.groups().get(gid).is_none(), "dissolved with its body");
+    assert!(layer.groups().iter().all(|(id, _)| id != gid));
+    assert_eq!(layer.groups().stats().mean_variables(), 0.0);
+    // A foreign GroupId (another layer's) names whatever group holds that slot here:
+    // ids carry no layer identity (aliasing, undetectable).
+    let (_, _, _, other) = stepped(2);
+    let foreign = other.groups().iter().next().unwrap().0;
+    let _ = layer.groups().get(foreign);
+}

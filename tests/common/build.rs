@@ -1,0 +1,94 @@
+//! World-building shorthands: the few setups the tests share, spelled once. Each
+//! inserts into a `PhysicsWorld` with Rapier's own calls and returns the handles
+//! Rapier issued; a position is anything that converts into a `Vector`
+//! (`[x, y, z]` too). Values that matter to a test stay in the test: these builders
+//! fix only the shapes every caller uses alike.
+
+use rapier3d::prelude::*;
+
+/// A fixed ground body at the origin with a 10 m × 1 m × 10 m box (its top at
+/// y = 0.5): the floor of most small tests.
+pub fn ground(world: &mut PhysicsWorld) -> (RigidBodyHandle, ColliderHandle) {
+    world.insert(
+        RigidBodyBuilder::fixed(),
+        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
+    )
+}
+
+/// The [`ground`] box as static geometry: a parentless collider.
+pub fn static_ground(world: &mut PhysicsWorld) -> ColliderHandle {
+    world.insert_collider(ColliderBuilder::cuboid(5.0, 0.5, 5.0), None)
+}
+
+/// A new world (Rapier's default gravity and `dt`) with a [`ground`]; returns the
+/// ground body.
+pub fn world_with_ground() -> (PhysicsWorld, RigidBodyHandle) {
+    let mut world = PhysicsWorld::new();
+    let (ground, _) = ground(&mut world);
+    (world, ground)
+}
+
+/// The fuzz arena's floor: a fixed body at y = -0.25 with a 6 m × 0.5 m × 6 m box
+/// (its top at y = 0).
+pub fn arena_floor(world: &mut PhysicsWorld) -> (RigidBodyHandle, ColliderHandle) {
+    world.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+        ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+    )
+}
+
+/// A dynamic body at `at` (for a collider of the test's own).
+pub fn dynamic_at(at: impl Into<Vector>) -> RigidBodyBuilder {
+    RigidBodyBuilder::dynamic().translation(at.into())
+}
+
+/// A fixed body at `at` (for a collider of the test's own).
+pub fn fixed_at(at: impl Into<Vector>) -> RigidBodyBuilder {
+    RigidBodyBuilder::fixed().translation(at.into())
+}
+
+/// A dynamic ball of `radius` at `at`.
+pub fn ball_at(
+    world: &mut PhysicsWorld,
+    at: impl Into<Vector>,
+    radius: Real,
+) -> (RigidBodyHandle, ColliderHandle) {
+    world.insert(dynamic_at(at), ColliderBuilder::ball(radius))
+}
+
+/// A dynamic cube of half extent `half` at `at`.
+pub fn box_at(
+    world: &mut PhysicsWorld,
+    at: impl Into<Vector>,
+    half: Real,
+) -> (RigidBodyHandle, ColliderHandle) {
+    world.insert(dynamic_at(at), ColliderBuilder::cuboid(half, half, half))
+}
+
+/// A fixed cube of half extent `half` at `at` (a post, a block).
+pub fn fixed_box_at(
+    world: &mut PhysicsWorld,
+    at: impl Into<Vector>,
+    half: Real,
+) -> (RigidBodyHandle, ColliderHandle) {
+    world.insert(fixed_at(at), ColliderBuilder::cuboid(half, half, half))
+}
+
+/// On an [`arena_floor`]: a multibody chain of two balls (radius 0.25), its root at
+/// y = 1 and its link at y = 0.5 hinged about z, and a free ball overlapping the
+/// link; returns the root and the link.
+pub fn multibody_chain(world: &mut PhysicsWorld) -> (RigidBodyHandle, RigidBodyHandle) {
+    arena_floor(world);
+    let root = ball_at(world, [0.0, 1.0, 0.0], 0.25).0;
+    let link = ball_at(world, [0.0, 0.5, 0.0], 0.25).0;
+    world
+        .insert_multibody_joint(root, link, chain_joint())
+        .unwrap();
+    ball_at(world, [0.0, 0.5, 0.0], 0.25); // overlaps the link
+    (root, link)
+}
+
+/// The hinge of [`multibody_chain`]: revolute about z, the link 0.6 m below.
+pub fn chain_joint() -> RevoluteJointBuilder {
+    RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0))
+}

@@ -1,0 +1,215 @@
+//! [`Harness::step`]: one step of the layer, then every check of
+//! `tests/fuzz_operations.rs` (1. `validate()`, 2. the event contract, 3. the
+//! subscriptions, 5. awake and passive flags against Rapier, 4. the graph against a
+//! fresh layer's).
+
+use std::collections::{HashMap, HashSet};
+
+use rapier_contact_graph::rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, Error, Event, NodeId, NodeKind, Rule, WorldView};
+
+use super::contract::{matches, InForce};
+use super::derived::{derived, diff, key_of, set_diff, Key};
+use super::ops::raw;
+use super::Harness;
+
+impl Harness {
+    fn in_force(&self) -> InForce {
+        InForce {
+            rules: self
+                .rules
+                .iter()
+                .filter_map(|&r| self.layer.rule(r).cloned())
+                .collect(),
+            passive: self
+                .passive
+                .values()
+                .filter(|(h, on)| *on && self.world.bodies.contains(*h))
+                .filter_map(|(h, _)| self.layer.node_of_body(*h).ok())
+                .collect(),
+        }
+    }
+
+    /// One step, then every check.
+    pub fn step(&mut self) -> Result<(), String> {
+        let mut in_force = self.in_force();
+        self.layer.step(&mut self.world);
+        // What the pre-step refused or undid (a body made passive that had become a
+        // multibody member) was not passive during the step.
+        for &(h, ref e) in self.layer.refusals() {
+            if !matches!(e, Error::Unsupported { .. }) {
+                return Err(format!("refusal of {h:?} is not Unsupported: {e}"));
+            }
+            self.passive.insert(raw(h), (h, false));
+            if let Ok(n) = self.layer.node_of_body(h) {
+                in_force.passive.remove(&n);
+            }
+            self.counters.refused += 1;
+        }
+        #[cfg(test)]
+        {
+            self.log.passive = in_force.passive.clone();
+        }
+        (self.added, self.removed) = (false, false);
+        self.counters.steps += 1;
+        let step = self.layer.current_step();
+        self.quarantined
+            .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
+        self.check(step, &in_force)
+            .map_err(|e| format!("after step {step}: {e}"))
+    }
+
+    fn check(&mut self, step: u64, in_force: &InForce) -> Result<(), String> {
+        let layer = &self.layer;
+        let world = &self.world;
+        self.counters.max_nodes = self.counters.max_nodes.max(layer.graph().node_count());
+        self.counters.sleeping_seen += world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_sleeping() && !b.is_fixed())
+            .count() as u64;
+
+        // 1. validate().
+        layer
+            .validate(world)
+            .map_err(|e| format!("validate() failed: {e}"))?;
+
+        // 2. The contract.
+        let got: Vec<Event> = self.rx.try_iter().collect();
+        if got.as_slice() != layer.last_events() {
+            return Err(format!(
+                "the Filter::all() subscriber got {} events, last_events() has {}",
+                got.len(),
+                layer.last_events().len()
+            ));
+        }
+        for ev in &got {
+            self.counters.events += 1;
+            self.counters.kinds_seen |= 1 << (ev.kind as u8);
+            self.contract.check(ev, step, layer, in_force)?;
+        }
+        self.contract.agrees_with(layer)?;
+        #[cfg(test)]
+        {
+            self.log.drain();
+            self.log.agrees_with(layer);
+        }
+        // 3. Subscriptions.
+        for s in &self.subs {
+            let got: Vec<Event> = s.rx.try_iter().collect();
+            let want: Vec<Event> = layer
+                .last_events()
+                .iter()
+                .filter(|e| matches(&s.filter, e, layer))
+                .copied()
+                .collect();
+            let want = if s.capacity > 0 && want.len() > s.capacity {
+                &want[..s.capacity]
+            } else {
+                &want[..]
+            };
+            if got != want {
+                return Err(format!(
+                    "subscription {:?} (capacity {}, {:?}) got {:?}, expected {:?}",
+                    s.id, s.capacity, s.filter, got, want
+                ));
+            }
+        }
+
+        // 5. Awake and passive flags against Rapier.
+        let active: HashSet<RigidBodyHandle> = world.islands.active_bodies().collect();
+        for (h, rb) in world.bodies.iter() {
+            let n = layer
+                .node_of_body(h)
+                .map_err(|e| format!("body {h:?} has no node: {e}"))?;
+            let node = layer.graph().node(n).ok_or("dead node")?;
+            let want_awake = active.contains(&h) && node.kind() != NodeKind::Fixed;
+            if node.is_awake() != want_awake {
+                return Err(format!(
+                    "node {n:?} of body {h:?} ({:?}) awake = {}, Rapier: active {}",
+                    node.kind(),
+                    node.is_awake(),
+                    active.contains(&h)
+                ));
+            }
+            if node.is_passive() == rb.is_enabled() {
+                return Err(format!(
+                    "node {n:?} of body {h:?} passive = {}, Rapier enabled = {}",
+                    node.is_passive(),
+                    rb.is_enabled()
+                ));
+            }
+            if let Some((_, asked)) = self.passive.get(&raw(h)) {
+                if *asked == rb.is_enabled() && !self.quarantined.contains(&raw(h)) {
+                    return Err(format!(
+                        "body {h:?}: set_passive({asked}) asked, Rapier enabled = {}",
+                        rb.is_enabled()
+                    ));
+                }
+            }
+        }
+
+        // 4. The graph against a fresh layer.
+        self.compare_with_fresh()
+    }
+
+    fn compare_with_fresh(&self) -> Result<(), String> {
+        let world = &self.world;
+        let layer = &self.layer;
+        let view = WorldView::from(world);
+        let mut fresh = ContactLayer::new();
+        fresh.analyze(view);
+        fresh
+            .validate_view(&view)
+            .map_err(|e| format!("the fresh layer fails validate(): {e}"))?;
+
+        // The screen of validate(): the layer's rules, disabled bodies.
+        let ids: HashMap<Key, NodeId> = layer
+            .graph()
+            .nodes()
+            .filter_map(|(id, n)| Some((key_of(n.source())?, id)))
+            .collect();
+        let rules: Vec<&Rule> = layer
+            .graph()
+            .nodes_of_kind(NodeKind::Rule)
+            .filter_map(|(id, _)| layer.rule(id))
+            .collect();
+        let disabled = |k: Key| match k {
+            Key::Body(i, g) => world
+                .bodies
+                .get(RigidBodyHandle::from_raw_parts(i, g))
+                .is_some_and(|b| !b.is_enabled()),
+            _ => false,
+        };
+        let skip = |a: Key, b: Key| {
+            if disabled(a) || disabled(b) {
+                return true;
+            }
+            match (ids.get(&a), ids.get(&b)) {
+                (Some(&x), Some(&y)) => rules.iter().any(|r| r.ignores(x, y)),
+                _ => false,
+            }
+        };
+        let mine = derived(layer, &skip);
+        let theirs = derived(&fresh, &skip);
+        if mine == theirs {
+            return Ok(());
+        }
+        let mut out = String::new();
+        diff("node", &mine.nodes, &theirs.nodes, &mut out);
+        diff("physical edge", &mine.physical, &theirs.physical, &mut out);
+        set_diff(
+            "geometric edge",
+            &mine.geometric,
+            &theirs.geometric,
+            &mut out,
+        );
+        set_diff(
+            "structural edge",
+            &mine.structural,
+            &theirs.structural,
+            &mut out,
+        );
+        Err(format!("the graph differs from a fresh layer's:\n{out}"))
+    }
+}

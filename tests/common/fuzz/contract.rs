@@ -1,0 +1,216 @@
+//! Checks 2 and 3 of `tests/fuzz_operations.rs`: the listener contract of `events`,
+//! checked event by event by a checker of our own (the shared `ContractLog` of
+//! `tests/common` runs beside it), and what a filtered subscription must receive.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt::Write as _;
+
+use rapier_contact_graph::{
+    ContactLayer, EdgeKind, Event, EventKind, Filter, NodeId, NodeKind, Rule,
+};
+
+/// The listener contract, checked event by event (our own checker).
+#[derive(Default)]
+pub(super) struct Contract {
+    prox: HashSet<(NodeId, NodeId)>,
+    touch: HashSet<(NodeId, NodeId)>,
+    inside: HashSet<(NodeId, NodeId)>,
+    asleep: HashMap<NodeId, bool>,
+    ticks: HashMap<NodeId, u64>,
+}
+
+/// What was in force during a step: the rules, and the passive bodies' nodes.
+#[derive(Default)]
+pub(super) struct InForce {
+    pub(super) rules: Vec<Rule>,
+    pub(super) passive: HashSet<NodeId>,
+}
+
+impl Contract {
+    pub(super) fn check(
+        &mut self,
+        ev: &Event,
+        step: u64,
+        layer: &ContactLayer,
+        in_force: &InForce,
+    ) -> Result<(), String> {
+        use EventKind::*;
+        let bad = |m: &str| Err(format!("contract: {m}: {ev:?}"));
+        if ev.step != step {
+            return bad(&format!(
+                "event of step {} delivered after step {step}",
+                ev.step
+            ));
+        }
+        let g = layer.graph();
+        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        for n in [Some(ev.a), ev.b].into_iter().flatten() {
+            if !is_end && in_force.passive.contains(&n) {
+                return bad("names a passive body");
+            }
+        }
+        let pair_ignored = |a: NodeId, b: NodeId| in_force.rules.iter().any(|r| r.ignores(a, b));
+        match ev.kind {
+            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
+            | TouchEnd => {
+                let Some(b) = ev.b else {
+                    return bad("pair event without b");
+                };
+                let k = (ev.a, b);
+                if ev.a.index() >= b.index() {
+                    return bad("pair event does not name A (smaller slot) first");
+                }
+                if !is_end && pair_ignored(ev.a, b) {
+                    return bad("Begin/Persist for a pair a rule in force ignores");
+                }
+                match ev.kind {
+                    ProximityBegin => {
+                        if !self.prox.insert(k) {
+                            return bad("ProximityBegin twice");
+                        }
+                    }
+                    ProximityPersist => {
+                        if !self.prox.contains(&k) {
+                            return bad("ProximityPersist without Begin");
+                        }
+                    }
+                    ProximityEnd => {
+                        if self.touch.contains(&k) {
+                            return bad("proximity ends inside a touch");
+                        }
+                        if !self.prox.remove(&k) {
+                            return bad("ProximityEnd without Begin");
+                        }
+                    }
+                    TouchBegin => {
+                        if !self.prox.contains(&k) {
+                            return bad("touch outside proximity");
+                        }
+                        if !self.touch.insert(k) {
+                            return bad("TouchBegin twice");
+                        }
+                    }
+                    TouchPersist => {
+                        if !self.touch.contains(&k) {
+                            return bad("TouchPersist without Begin");
+                        }
+                    }
+                    TouchEnd => {
+                        if !self.touch.remove(&k) {
+                            return bad("TouchEnd without Begin");
+                        }
+                    }
+                    _ => unreachable!(),
+                }
+                if matches!(ev.kind, ProximityPersist | TouchPersist) {
+                    let awake = |n| g.node(n).is_some_and(|n| n.is_awake());
+                    if !awake(ev.a) && !awake(b) {
+                        return bad("Persist for a pair without an awake body");
+                    }
+                }
+            }
+            TriggerEnter | TriggerExit => {
+                let Some(b) = ev.b else {
+                    return bad("trigger event without b");
+                };
+                if ev.kind == TriggerEnter {
+                    if pair_ignored(ev.a, b) {
+                        return bad("TriggerEnter for a pair a rule in force ignores");
+                    }
+                    if !self.inside.insert((ev.a, b)) {
+                        return bad("Enter twice");
+                    }
+                } else if !self.inside.remove(&(ev.a, b)) {
+                    return bad("Exit without Enter");
+                }
+            }
+            TimerTick => {
+                let last = self.ticks.entry(ev.a).or_insert(0);
+                if ev.tick != *last + 1 {
+                    return bad("ticks skip");
+                }
+                *last = ev.tick;
+            }
+            FellAsleep | WokeUp => {
+                let now_awake = ev.kind == WokeUp;
+                if self.asleep.insert(ev.a, !now_awake) == Some(!now_awake) {
+                    return bad("FellAsleep or WokeUp twice");
+                }
+                if g.node(ev.a).is_some_and(|n| n.is_awake() != now_awake) {
+                    return bad("sleep event disagrees with the node's awake flag");
+                }
+            }
+            // The sequences run without the monitor.
+            Violation | Repaired => return bad("monitor event without a monitor"),
+        }
+        Ok(())
+    }
+
+    /// The open spans against the graph.
+    pub(super) fn agrees_with(&self, layer: &ContactLayer) -> Result<(), String> {
+        let g = layer.graph();
+        let (mut prox, mut touch, mut inside) = (HashSet::new(), HashSet::new(), HashSet::new());
+        for (_, e) in g.edges() {
+            match e.kind() {
+                EdgeKind::Physical => {
+                    if e.is_proximate() {
+                        prox.insert((e.a(), e.b()));
+                    }
+                    if e.is_touching() {
+                        touch.insert((e.a(), e.b()));
+                    }
+                }
+                EdgeKind::Geometric => {
+                    let t_is_a = g.node(e.a()).is_some_and(|n| n.kind() == NodeKind::Trigger);
+                    inside.insert(if t_is_a {
+                        (e.a(), e.b())
+                    } else {
+                        (e.b(), e.a())
+                    });
+                }
+                _ => {}
+            }
+        }
+        let mut out = String::new();
+        for (what, graph, stream) in [
+            ("proximity", &prox, &self.prox),
+            ("touch", &touch, &self.touch),
+            ("trigger", &inside, &self.inside),
+        ] {
+            let mut only_graph: Vec<_> = graph.difference(stream).collect();
+            let mut only_stream: Vec<_> = stream.difference(graph).collect();
+            only_graph.sort();
+            only_stream.sort();
+            if !only_graph.is_empty() || !only_stream.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "  {what} spans: graph only {only_graph:?}, events only {only_stream:?}"
+                );
+            }
+        }
+        if out.is_empty() {
+            Ok(())
+        } else {
+            Err(format!("open spans differ from the graph:\n{out}"))
+        }
+    }
+}
+
+fn member_of_any(n: NodeId, set: &[NodeId], layer: &ContactLayer) -> bool {
+    set.contains(&n)
+        || layer
+            .graph()
+            .neighbors(n)
+            .any(|(m, _, e)| e.kind() == EdgeKind::Structural && set.contains(&m))
+}
+
+pub(super) fn matches(filter: &Filter, ev: &Event, layer: &ContactLayer) -> bool {
+    filter.kinds_set().contains(ev.kind)
+        && match filter.nodes() {
+            None => true,
+            Some(set) => {
+                member_of_any(ev.a, set, layer)
+                    || ev.b.is_some_and(|b| member_of_any(b, set, layer))
+            }
+        }
+}

@@ -1,0 +1,156 @@
+//! The fuzz harness of `tests/fuzz_operations.rs`: a world, a layer, the operation
+//! language applied to them, and every check after every step (the file's module
+//! documentation says what is checked and why).
+//!
+//! It is no module of `common`: `tests/fuzz_operations.rs` includes it as its module
+//! `harness` (`#[path = "common/fuzz/mod.rs"]`), and so does the cargo-fuzz target
+//! (`fuzz/fuzz_targets/operations.rs`), which includes that file. So nothing here but
+//! the `cfg(test)` parts may use proptest or `crate::common`; the regression binaries
+//! that replay sequences include it the same way.
+//!
+//! - [`ops`]: the operations ([`Op`], [`Ty`]) and the grid they are placed on;
+//! - [`apply`]: [`Harness::apply`], what each operation does to the world or the layer;
+//! - [`check`]: [`Harness::step`], one step and every check after it;
+//! - [`contract`]: our own checker of the listener contract, and subscription filters;
+//! - [`derived`]: the part of a graph derived from Rapier's state alone, compared
+//!   with a fresh layer's;
+//! - `strategies`, `runner` (tests only): the proptest generator, and the runner that
+//!   minimises and reports a failure.
+
+use std::collections::{BTreeMap, HashSet};
+
+use crossbeam_channel::Receiver;
+use rapier_contact_graph::events::SubscriptionId;
+use rapier_contact_graph::rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, Event, Filter, NodeId};
+
+mod apply;
+mod check;
+mod contract;
+mod derived;
+mod ops;
+#[cfg(test)]
+pub mod runner;
+#[cfg(test)]
+pub mod strategies;
+
+use contract::Contract;
+pub use ops::{Op, Ty};
+
+/// A subscription under test.
+struct Sub {
+    id: Option<SubscriptionId>,
+    rx: Receiver<Event>,
+    filter: Filter,
+    capacity: usize,
+}
+
+/// Counters over a run (for the report of the long run).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Counters {
+    pub ops: u64,
+    pub steps: u64,
+    pub events: u64,
+    pub max_nodes: usize,
+    pub kinds_seen: u16,
+    pub sleeping_seen: u64,
+    /// `set_passive(true)` calls refused, and passive changes the pre-step refused
+    /// or undid.
+    pub refused: u64,
+}
+
+/// A world, a layer, and the checks.
+pub struct Harness {
+    pub world: PhysicsWorld,
+    pub layer: ContactLayer,
+    rx: Receiver<Event>,
+    contract: Contract,
+    subs: Vec<Sub>,
+    rules: Vec<NodeId>,
+    timers: Vec<NodeId>,
+    composites: Vec<NodeId>,
+    /// What the user last asked with `set_passive`, per body.
+    passive: BTreeMap<(u32, u32), (RigidBodyHandle, bool)>,
+    pub counters: Counters,
+    pub trace: bool,
+    /// Bodies Rapier's quarantine disabled (non-finite state) at some step: they
+    /// are disabled whatever `set_passive` asked.
+    quarantined: HashSet<(u32, u32)>,
+    /// Bodies or colliders added / removed since the last step.
+    added: bool,
+    removed: bool,
+    /// The shared contract checker of `tests/common`.
+    #[cfg(test)]
+    log: crate::common::contract::ContractLog,
+}
+
+impl Default for Harness {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Harness {
+    /// The arena: a fixed floor body (top at y = 0), four walls and a ceiling as
+    /// parentless colliders, a 6 m × 4 m × 6 m box.
+    pub fn new() -> Self {
+        let mut world = PhysicsWorld::new();
+        world.insert(
+            RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+            ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+        );
+        for (x, z, hx, hz) in [
+            (3.25, 0.0, 0.25, 3.0),
+            (-3.25, 0.0, 0.25, 3.0),
+            (0.0, 3.25, 3.0, 0.25),
+            (0.0, -3.25, 3.0, 0.25),
+        ] {
+            world.insert_collider(
+                ColliderBuilder::cuboid(hx, 2.0, hz).translation(Vector::new(x, 2.0, z)),
+                None,
+            );
+        }
+        world.insert_collider(
+            ColliderBuilder::cuboid(3.0, 0.25, 3.0).translation(Vector::new(0.0, 4.25, 0.0)),
+            None,
+        );
+        let mut layer = ContactLayer::new();
+        let rx = layer.subscribe(Filter::all());
+        #[cfg(test)]
+        let log = crate::common::contract::ContractLog::attach(&mut layer);
+        Self {
+            world,
+            layer,
+            rx,
+            contract: Contract::default(),
+            subs: Vec::new(),
+            rules: Vec::new(),
+            timers: Vec::new(),
+            composites: Vec::new(),
+            passive: BTreeMap::new(),
+            counters: Counters::default(),
+            trace: false,
+            added: false,
+            removed: false,
+            quarantined: HashSet::new(),
+            #[cfg(test)]
+            log,
+        }
+    }
+}
+
+/// Runs a sequence on a fresh harness; the first failed check is the error.
+pub fn run(ops: &[Op], trace: bool) -> Result<Counters, String> {
+    let mut h = Harness::new();
+    h.trace = trace;
+    // The first step makes nodes of the arena.
+    h.step().map_err(|e| format!("initial step: {e}"))?;
+    for (i, op) in ops.iter().enumerate() {
+        h.apply(op).map_err(|e| format!("op #{i} {op:?}: {e}"))?;
+    }
+    // A few steps at the end so that the last operations are analysed.
+    for _ in 0..3 {
+        h.step().map_err(|e| format!("final steps: {e}"))?;
+    }
+    Ok(h.counters)
+}

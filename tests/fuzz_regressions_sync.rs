@@ -1,0 +1,214 @@
+//! Minimised regression tests of the bugs `tests/fuzz_operations.rs` found: `bug_*`
+//! are ignored until fixed (each fails when run with `--ignored`), `fixed_*` were
+//! fixed meanwhile (each failed when found).
+//!
+//! World changes the layer must see: a layer attached to a sleeping world, bodies
+//! removed and added between steps, fixed geometry moved or added next to a sleeping
+//! body; and sleep events that alternate through fixation, type changes and passive
+//! toggles.
+
+mod common;
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, WorldView};
+
+use common::build::*;
+
+/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+#[test]
+fn fixed_a_layer_attached_to_a_world_with_sleeping_bodies_reads_their_pairs() {
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
+    for _ in 0..200 {
+        world.step();
+    }
+    assert!(
+        world.bodies[ball].is_sleeping(),
+        "the ball rests and sleeps"
+    );
+    // "A layer with an empty graph; the first update fills it from the world."
+    let mut layer = ContactLayer::new();
+    layer.analyze(WorldView::from(&world));
+    // Failed before the fix: "Rapier pair of nodes 0–1 has no edge" (only awake bodies' pairs
+    // are read, and `request_full_sync` syncs nodes, not pairs).
+    layer.validate(&world).unwrap();
+}
+
+/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+#[test]
+fn fixed_a_body_removed_and_another_added_between_steps_leaves_no_stale_node() {
+    let (mut world, ground) = world_with_ground();
+    ball_at(&mut world, [0.0, 3.0, 0.0], 0.5);
+    let mut layer = ContactLayer::new();
+    layer.step(&mut world);
+    // Same numbers of bodies and colliders as before: only the counts are compared.
+    world.remove_body(ground);
+    ball_at(&mut world, [3.0, 3.0, 0.0], 0.5);
+    layer.step(&mut world);
+    // Failed before the fix: "3 body nodes for 2 bodies and static colliders" (the fixed body's
+    // node stays: it was not awake, so only a full scan would see it go).
+    layer.validate(&world).unwrap();
+}
+
+/// Fixed geometry moved next to a sleeping body, the user asking for a full sync as
+/// documented: the pair (proximate, not touching: Rapier does not wake the ball) is
+/// read. Failed before a requested full sync refreshed every node (the fuzzing
+/// woke every body after such a move to avoid it).
+#[test]
+fn fixed_a_fixed_body_moved_next_to_a_sleeping_body_is_paired_after_a_full_sync() {
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
+    let (post, _) = fixed_box_at(&mut world, [4.0, 1.0, 0.0], 0.5);
+    let mut layer = ContactLayer::new();
+    for _ in 0..200 {
+        layer.step(&mut world);
+    }
+    assert!(world.bodies[ball].is_sleeping());
+    world.bodies[post].set_translation(Vector::new(1.05, 1.0, 0.0), true);
+    layer.request_full_sync();
+    layer.step(&mut world);
+    assert!(world.bodies[ball].is_sleeping());
+    layer.validate(&world).unwrap();
+    let g = layer.graph();
+    let e = g
+        .edge_between(g.node_of_body(ball).unwrap(), g.node_of_body(post).unwrap())
+        .expect("the pair is read");
+    assert!(g.edge(e).unwrap().is_proximate());
+    // And away again: the edge ends.
+    world.bodies[post].set_translation(Vector::new(4.0, 1.0, 0.0), true);
+    layer.request_full_sync();
+    layer.step(&mut world);
+    layer.validate(&world).unwrap();
+}
+
+/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+#[test]
+fn fixed_geometry_added_next_to_a_sleeping_body_is_paired() {
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
+    let mut layer = ContactLayer::new();
+    for _ in 0..200 {
+        layer.step(&mut world);
+    }
+    assert!(world.bodies[ball].is_sleeping());
+    layer.validate(&world).unwrap();
+    // A fixed box 0.05 m from the sleeping ball: within Rapier's prediction
+    // distance (a pair, not touching), so Rapier does not wake the ball.
+    fixed_box_at(&mut world, [1.05, 1.0, 0.0], 0.5);
+    layer.request_full_sync(); // not needed (the body count changed); no help either
+    layer.step(&mut world);
+    assert!(world.bodies[ball].is_sleeping());
+    // Failed before the fix: "Rapier pair of nodes ..–.. has no edge" (or "edge .. of a Rapier
+    // pair is not proximate" when the pair array is scanned: the edge is made, never fed). New
+    // fixed nodes have no pairs walked, the sleeping ball neither.
+    layer.validate(&world).unwrap();
+}
+
+/// The sleep events of one body, in order.
+fn sleep_events(
+    rx: &crossbeam_channel::Receiver<rapier_contact_graph::Event>,
+    body: RigidBodyHandle,
+) -> Vec<rapier_contact_graph::EventKind> {
+    rx.try_iter()
+        .filter(|e| e.body_a == Some(body))
+        .map(|e| e.kind)
+        .collect()
+}
+
+/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+#[test]
+fn fixed_fixation_and_release_send_alternating_sleep_events() {
+    use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+    use rapier_contact_graph::speedups::SpeedUps;
+    let mut world = PhysicsWorld::new();
+    arena_floor(&mut world);
+    let (ball, _) = ball_at(&mut world, [0.0, 0.25, 0.0], 0.25);
+    let mut layer = ContactLayer::new();
+    let rx = layer.subscribe(Filter::kinds(KindSet::SLEEP));
+    layer.step(&mut world);
+    world.bodies[ball].sleep();
+    layer.step(&mut world); // FellAsleep
+    world.wake_up(ball, true);
+    layer.step(&mut world); // WokeUp
+    layer
+        .set_speedups(Some(SpeedUps {
+            fixate: true,
+            ..SpeedUps::contact_graph()
+        }))
+        .unwrap();
+    for _ in 0..40 {
+        layer.step(&mut world);
+    }
+    assert!(layer.speedups().unwrap().is_fixated(ball), "held at rest");
+    // Two balls dropped into it: pushed out fast, they release it.
+    ball_at(&mut world, [0.0, 0.25, 0.0], 0.25);
+    ball_at(&mut world, [0.0, 0.25, 0.0], 0.25);
+    for _ in 0..3 {
+        layer.step(&mut world);
+    }
+    let kinds: Vec<EventKind> = rx
+        .try_iter()
+        .filter(|e| e.body_a == Some(ball))
+        .map(|e| e.kind)
+        .collect();
+    // Failed before the fix: [FellAsleep, WokeUp, WokeUp]: fixation turns the node Fixed (no
+    // FellAsleep), its release turns it Rigid and awake (WokeUp).
+    for w in kinds.windows(2) {
+        assert_ne!(w[0], w[1], "sleep events of the ball: {kinds:?}");
+    }
+}
+
+/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+#[test]
+fn fixed_a_body_turned_fixed_and_back_sends_alternating_sleep_events() {
+    use rapier_contact_graph::events::{Filter, KindSet};
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = world.insert(fixed_at([0.0, 3.0, 0.0]), ColliderBuilder::ball(0.5));
+    let mut layer = ContactLayer::new();
+    let rx = layer.subscribe(Filter::kinds(KindSet::SLEEP));
+    layer.step(&mut world);
+    for ty in [
+        RigidBodyType::Dynamic,
+        RigidBodyType::Fixed,
+        RigidBodyType::Dynamic,
+    ] {
+        world.bodies[ball].set_body_type(ty, true);
+        layer.request_full_sync();
+        layer.step(&mut world);
+    }
+    let kinds = sleep_events(&rx, ball);
+    // Failed before the fix: [WokeUp, WokeUp]: turning fixed is no FellAsleep (a fixed node is
+    // never awake, and sleep events are for simulated kinds only), turning dynamic
+    // again is a WokeUp.
+    for w in kinds.windows(2) {
+        assert_ne!(w[0], w[1], "sleep events of the body: {kinds:?}");
+    }
+}
+
+/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+#[test]
+fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
+    use rapier_contact_graph::events::{Filter, KindSet};
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
+    let mut layer = ContactLayer::new();
+    let rx = layer.subscribe(Filter::kinds(KindSet::SLEEP));
+    for _ in 0..200 {
+        layer.step(&mut world);
+    }
+    assert!(world.bodies[ball].is_sleeping()); // FellAsleep sent
+    layer.set_passive(ball, true).unwrap();
+    layer.step(&mut world);
+    layer.set_passive(ball, false).unwrap();
+    for _ in 0..200 {
+        layer.step(&mut world); // re-enabled awake, then asleep again
+    }
+    assert!(world.bodies[ball].is_sleeping());
+    let kinds = sleep_events(&rx, ball);
+    // Failed before the fix: [FellAsleep, FellAsleep]: the body comes back awake from the passive
+    // toggle without a WokeUp (passive changes send no sleep events), then falls
+    // asleep again.
+    for w in kinds.windows(2) {
+        assert_ne!(w[0], w[1], "sleep events of the ball: {kinds:?}");
+    }
+}
