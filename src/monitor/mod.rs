@@ -173,7 +173,7 @@ impl MonitorConfig {
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Violation {
-    /// The layer's step it was found in ([`ContactLayer::current_step`]).
+    /// The layer's step it was found in ([`ContactLayer::current_step`](crate::ContactLayer::current_step)).
     pub step: u64,
     /// What went wrong.
     pub kind: ViolationKind,
@@ -380,8 +380,8 @@ impl Monitor {
     ///   caller held at the previous check and does not hold now is excepted
     ///   automatically, since releasing a fixated body restores its velocity.
     ///
-    /// Call it once after each step ([`ContactLayer::step`] or
-    /// [`ContactLayer::analyze`]), with the view of the world that was stepped. A
+    /// Call it once after each step ([`ContactLayer::step`](crate::ContactLayer::step) or
+    /// [`ContactLayer::analyze`](crate::ContactLayer::analyze)), with the view of the world that was stepped. A
     /// second call for the same layer step times nothing and balances no energy (no
     /// time passed) but re-runs the penetration and escape checks, so a pose corrupted
     /// between steps is seen at once.

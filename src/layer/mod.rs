@@ -1,0 +1,198 @@
+//! The layer a Rapier user adds: one call per step keeps the contact graph, the marks
+//! and the contact groups in step with the world.
+//!
+//! `ContactLayer`'s `impl` is split across files by task, as Rapier splits
+//! `impl NarrowPhase` by phase:
+//! - `step.rs`: `step`, `pre_step`, `analyze` (paper §3, §5, Fig. 11);
+//! - `queries.rs`: the graph, groups, nodes of Rapier handles, support, `validate`;
+//! - `events.rs`: subscriptions (§4, Table 3);
+//! - `logic.rs`: rules, timers, passive bodies, containers, trigger widening (§3.2);
+//! - `speedups.rs`: the speed-ups (§7), the monitor (§8) and the hooks Rapier calls.
+
+use crate::coherence::{Coherence, WalkCounters};
+use crate::events::{Event, EventBus};
+use crate::graph::{ContactGraph, NodeId};
+use crate::groups::{GroupStats, Groups};
+use crate::logic::Logic;
+use crate::monitor::LayerMonitor;
+use crate::speedups::SpeedUpState;
+
+mod events;
+mod logic;
+mod queries;
+mod speedups;
+mod step;
+
+/// Statistics of one step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct StepStats {
+    /// The step's index (1 for the first analysed step).
+    pub step: u64,
+    /// Live nodes.
+    pub nodes: usize,
+    /// Live edges.
+    pub edges: usize,
+    /// Bodies awake after the step.
+    pub awake_bodies: usize,
+    /// What the pair walk read.
+    pub walk: WalkCounters,
+    /// Group statistics.
+    pub groups: GroupStats,
+    /// Events generated in the step (before filtering per subscription).
+    pub events: usize,
+    /// Violations the monitor found in the step (0 with the monitor off; see
+    /// [`ContactLayer::set_monitor`]).
+    pub violations: usize,
+}
+
+/// The contact graph layer: one call per step ([`Self::step`], or [`Self::pre_step`],
+/// Rapier's step with [`Self::hooks`], then [`Self::analyze`]) keeps the contact
+/// graph, the marks and the contact groups in step with a Rapier world.
+///
+/// # Example
+/// ```
+/// use rapier3d::prelude::*;
+/// use rapier_contact_graph::{ContactLayer, NodeKind};
+///
+/// let mut world = PhysicsWorld::new();
+/// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+/// let (ball, _) = world.insert(
+///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.2, 0.0)),
+///     ColliderBuilder::ball(0.5),
+/// );
+/// let mut layer = ContactLayer::new();
+/// for _ in 0..60 {
+///     layer.step(&mut world);
+/// }
+/// let node = layer.graph().try_node_of_body(ball).unwrap();
+/// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Rigid);
+/// assert!(layer.is_supported(node).unwrap(), "the ball rests on the ground");
+/// layer.validate(&world).unwrap();
+/// ```
+///
+/// # Methods by task
+/// - **Stepping:** [`Self::step`]; or [`Self::pre_step`], Rapier's step with
+///   [`Self::hooks`], then [`Self::analyze`].
+/// - **Who touches what:** [`Self::graph`], [`Self::node_of_body`],
+///   [`Self::node_of_collider`], [`Self::is_supported`], [`Self::kind_of`],
+///   [`Self::touched_edges`], [`Self::removed_edges`], [`Self::removed_nodes`].
+/// - **Contact groups:** [`Self::groups`], [`Self::grouping`], [`Self::insulates`],
+///   [`Self::stats`].
+/// - **Events:** [`Self::subscribe`], [`Self::subscribe_bounded`],
+///   [`Self::subscribe_with_id`], [`Self::unsubscribe`], [`Self::last_events`].
+/// - **Rules, timers, passive bodies, containers:** [`Self::add_rule`],
+///   [`Self::remove_rule`], [`Self::add_timer`], [`Self::remove_timer`],
+///   [`Self::set_passive`], [`Self::declare_composite`], [`Self::set_trigger_widening`].
+/// - **Speed-ups and the monitor:** [`Self::set_speedups`], [`Self::speedups`],
+///   [`Self::set_monitor`], [`Self::monitor`], [`Self::holds`].
+/// - **Checking and syncing:** [`Self::validate`], [`Self::validate_view`],
+///   [`Self::request_full_sync`], [`Self::set_contact_details`].
+///
+/// Observe-only unless asked: without rules it sets no hook flag on any collider, and
+/// the hooks it hands Rapier are then never called, so attaching it changes nothing
+/// in Rapier's results (tested bit for bit). Triggers widen the collision types of
+/// sensor colliders only (sensors push nothing; see [`Self::set_trigger_widening`]).
+#[derive(Debug)]
+pub struct ContactLayer {
+    graph: ContactGraph,
+    groups: Groups,
+    coherence: Coherence,
+    logic: Logic,
+    bus: EventBus,
+    stats: StepStats,
+    /// The gravity of the last analysed world.
+    gravity: rapier3d::math::Vector,
+    colliders_seen: usize,
+    ticks: Vec<(NodeId, u64)>,
+    events: Vec<Event>,
+    speedups: Option<SpeedUpState>,
+    monitor: Option<LayerMonitor>,
+    monitor_events: Vec<Event>,
+    /// Set when the monitor goes off: the next pre-step undoes its repairs' changes.
+    monitor_restore: Option<LayerMonitor>,
+}
+
+impl Default for ContactLayer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ContactLayer {
+    /// A layer with an empty graph; the first update fills it from the world.
+    pub fn new() -> Self {
+        Self {
+            graph: ContactGraph::default(),
+            groups: Groups::default(),
+            coherence: Coherence::default(),
+            logic: Logic::new(),
+            bus: EventBus::default(),
+            stats: StepStats::default(),
+            gravity: rapier3d::math::Vector::ZERO,
+            colliders_seen: 0,
+            ticks: Vec::new(),
+            events: Vec::new(),
+            speedups: None,
+            monitor: None,
+            monitor_events: Vec::new(),
+            monitor_restore: None,
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+impl ContactLayer {
+    /// A copy of the layer's state without its subscriptions (see
+    /// [`crate::snapshot`]). O(state).
+    pub(crate) fn to_state(&self) -> crate::snapshot::LayerState {
+        crate::snapshot::LayerState {
+            graph: self.graph.clone(),
+            groups: self.groups.clone(),
+            coherence: self.coherence.clone(),
+            logic: self.logic.clone(),
+            bus: crate::snapshot::SavedBus(self.bus.without_subscriptions()),
+            stats: self.stats,
+            gravity: self.gravity,
+            colliders_seen: self.colliders_seen,
+            ticks: self.ticks.clone(),
+            events: self.events.clone(),
+            speedups: self.speedups.clone(),
+            monitor: self.monitor.clone(),
+            monitor_events: self.monitor_events.clone(),
+            monitor_restore: self.monitor_restore.clone(),
+        }
+    }
+
+    /// The layer of a checked state. O(1).
+    pub(crate) fn from_state(s: crate::snapshot::LayerState) -> Self {
+        Self {
+            graph: s.graph,
+            groups: s.groups,
+            coherence: s.coherence,
+            logic: s.logic,
+            bus: s.bus.0,
+            stats: s.stats,
+            gravity: s.gravity,
+            colliders_seen: s.colliders_seen,
+            ticks: s.ticks,
+            events: s.events,
+            speedups: s.speedups,
+            monitor: s.monitor,
+            monitor_events: s.monitor_events,
+            monitor_restore: s.monitor_restore,
+        }
+    }
+}
+
+impl<'a> From<&'a ContactLayer> for crate::monitor::AnalysisView<'a> {
+    fn from(layer: &'a ContactLayer) -> Self {
+        layer.analysis_view()
+    }
+}
+
+impl<'a> From<&'a mut ContactLayer> for crate::monitor::AnalysisView<'a> {
+    fn from(layer: &'a mut ContactLayer) -> Self {
+        (&*layer).analysis_view()
+    }
+}

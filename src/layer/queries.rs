@@ -1,0 +1,167 @@
+//! Queries on the layer's last analysis: the graph, the groups, nodes of Rapier
+//! handles, support, and `validate()`.
+
+use rapier3d::prelude::{ColliderHandle, PhysicsWorld, RigidBodyHandle};
+
+use crate::coherence::{Coherence, RemovedNode};
+use crate::graph::{ContactGraph, Edge, EdgeId, NodeId, NodeKind};
+use crate::groups::Groups;
+use crate::{Result, WorldView};
+
+use super::{ContactLayer, StepStats};
+
+impl ContactLayer {
+    /// The contact graph.
+    pub fn graph(&self) -> &ContactGraph {
+        &self.graph
+    }
+
+    /// The contact groups.
+    pub fn groups(&self) -> &Groups {
+        &self.groups
+    }
+
+    /// The statistics of the last step.
+    pub fn stats(&self) -> StepStats {
+        self.stats
+    }
+
+    /// The index of the last analysed step.
+    pub fn current_step(&self) -> u64 {
+        self.coherence.step()
+    }
+
+    /// Edges refreshed in the last step (their marks are valid), in the deterministic
+    /// order of [`Coherence::touched_edges`].
+    pub fn touched_edges(&self) -> impl Iterator<Item = (EdgeId, &Edge)> + '_ {
+        self.coherence
+            .touched_edges()
+            .iter()
+            .filter_map(|&id| Some((id, self.graph.edge(id)?)))
+    }
+
+    /// Edges removed in the last step with a node that left the world, each with a
+    /// final `Vanished` mark for the state it had.
+    pub fn removed_edges(&self) -> &[Edge] {
+        self.coherence.removed_edges()
+    }
+
+    /// Nodes removed in the last step.
+    pub fn removed_nodes(&self) -> &[RemovedNode] {
+        self.coherence.removed_nodes()
+    }
+
+    /// Counters and lists of the last analysis.
+    pub fn coherence(&self) -> &Coherence {
+        &self.coherence
+    }
+
+    /// What the plausibility monitor reads of the last analysis (graph, groups,
+    /// analysis, speed-ups). O(1).
+    pub fn analysis_view(&self) -> crate::monitor::AnalysisView<'_> {
+        crate::monitor::AnalysisView {
+            graph: &self.graph,
+            groups: &self.groups,
+            coherence: &self.coherence,
+            speedups: self.speedups(),
+        }
+    }
+
+    /// The analysis state, for its settings ([`Coherence::set_scan_policy`], ...).
+    pub fn coherence_mut(&mut self) -> &mut Coherence {
+        &mut self.coherence
+    }
+
+    /// Turns the per-edge contact details on (the default) or off; see
+    /// [`Coherence::set_contact_details`]. A scene that needs only the marks, the
+    /// touching state and the groups pays less per contact pair with them off.
+    /// Support queries need the details (the contact normals).
+    pub fn set_contact_details(&mut self, on: bool) {
+        self.coherence.set_contact_details(on);
+    }
+
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// reads every node's pairs and every trigger again. Needed only after changing a
+    /// *sleeping, fixed or passive* body, or static geometry, in place in a way Rapier
+    /// does not wake it for (its type, moving a fixed body or a parentless collider, a
+    /// sensor flag); adding and removing bodies and colliders is detected, and so is a
+    /// moved trigger. That update costs O(nodes + pairs).
+    pub fn request_full_sync(&mut self) {
+        self.coherence.request_full_sync();
+    }
+
+    /// The node of a body. O(1).
+    pub fn node_of_body(&self, body: RigidBodyHandle) -> Result<NodeId> {
+        self.graph.try_node_of_body(body)
+    }
+
+    /// The node of a collider: the trigger node of a sensor, else its parent body's
+    /// node, or its own for a parentless collider. O(1).
+    pub fn node_of_collider(
+        &self,
+        world: &PhysicsWorld,
+        collider: ColliderHandle,
+    ) -> Result<NodeId> {
+        let c = world
+            .colliders
+            .get(collider)
+            .ok_or(crate::Error::UnknownCollider(collider))?;
+        if let Some(t) = self.graph.node_of_sensor(collider) {
+            return Ok(t);
+        }
+        match c.parent() {
+            Some(b) => self.graph.try_node_of_body(b),
+            None => self
+                .graph
+                .node_of_static_collider(collider)
+                .ok_or(crate::Error::UnknownCollider(collider)),
+        }
+    }
+
+    /// Whether a node is supported against the gravity of the last analysed world
+    /// (see [`ContactGraph::try_is_supported`]; any upward push counts). O(degree).
+    pub fn is_supported(&self, node: NodeId) -> Result<bool> {
+        self.graph.try_is_supported(node, self.gravity, 0.0)
+    }
+
+    /// Whether `node` is of a given kind; an error for a stale id. O(1).
+    pub fn kind_of(&self, node: NodeId) -> Result<NodeKind> {
+        Ok(self.graph.try_node(node)?.kind())
+    }
+
+    /// Checks every invariant: the graph's own ([`ContactGraph::validate`]), the
+    /// groups', and the graph against the world — one node per body and per static
+    /// collider with the right kind, an edge with proximity for every Rapier pair of
+    /// two nodes that Table 2 allows, the touching state equal to Rapier's, and no
+    /// proximate edge without its Rapier pair. O(nodes + edges + Rapier pairs).
+    pub fn validate(&self, world: &PhysicsWorld) -> Result<()> {
+        crate::validate::validate_layer(self, &WorldView::from(world))
+    }
+
+    /// Whether groups are computed (the `groups` switch of the speed-ups; on without
+    /// speed-ups).
+    pub fn grouping(&self) -> bool {
+        match self.speedups() {
+            Some(s) => s.config().groups,
+            None => true,
+        }
+    }
+
+    /// Whether a node insulates groups: fixed and scripted bodies, and sleepy bodies
+    /// under subgrouping.
+    pub fn insulates(&self, n: NodeId) -> bool {
+        let Some(node) = self.graph.node(n) else {
+            return false;
+        };
+        node.kind().is_insulator()
+            || match self.speedups() {
+                Some(s) if s.config().subgroup => node.body().is_some_and(|h| s.is_sleepy(h)),
+                _ => false,
+            }
+    }
+
+    /// [`Self::validate`] for a world given by its parts.
+    pub fn validate_view(&self, view: &WorldView) -> Result<()> {
+        crate::validate::validate_layer(self, view)
+    }
+}

@@ -1,0 +1,158 @@
+//! The speed-ups (paper §7) and the plausibility monitor (§8) switched on the layer,
+//! and the hooks object the layer hands Rapier.
+
+use rapier3d::prelude::RigidBodyHandle;
+
+use crate::logic::hooks::HooksView;
+use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig};
+use crate::speedups::{SpeedUpState, SpeedUps};
+use crate::{Result, WorldView};
+
+use super::ContactLayer;
+
+impl ContactLayer {
+    /// Sets the plausibility monitor ([`crate::monitor`], DESIGN §6) the layer runs
+    /// after each analysis: [`MonitorMode::Off`] removes it; [`MonitorMode::Report`]
+    /// counts violations ([`StepStats::violations`](crate::StepStats::violations)) and sends them as
+    /// [`crate::events::EventKind::Violation`] events; [`MonitorMode::Repair`] also
+    /// acts on them (see [`crate::monitor::LayerMonitor`]). Invalid thresholds are an
+    /// error and change nothing. Changing the mode keeps the detectors' totals;
+    /// changing the thresholds starts a new monitor. O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.5, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer
+    ///     .set_monitor(MonitorMode::Repair, MonitorConfig::default(), RepairConfig::default())
+    ///     .unwrap();
+    /// for _ in 0..100 {
+    ///     assert_eq!(layer.step(&mut world).violations, 0);
+    /// }
+    /// assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
+    /// ```
+    pub fn set_monitor(
+        &mut self,
+        mode: MonitorMode,
+        config: MonitorConfig,
+        repair: RepairConfig,
+    ) -> Result<()> {
+        config.validate()?;
+        repair.validate()?;
+        if mode == MonitorMode::Off {
+            if let Some(m) = self.monitor.take() {
+                self.monitor_restore = Some(m);
+            }
+            return Ok(());
+        }
+        match &mut self.monitor {
+            Some(m) if m.monitor.config() == &config && m.repair_config() == &repair => {
+                m.set_mode(mode);
+            }
+            _ => {
+                if let Some(old) = self.monitor.take() {
+                    self.monitor_restore = Some(old);
+                }
+                self.monitor = Some(LayerMonitor::new(mode, config, repair)?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether a body is held in place: fixated by the speed-ups (fixed in Rapier until
+    /// released) or asleep in Rapier. This is the `held` a [`crate::monitor::Monitor`]
+    /// run outside the layer wants, and what the layer's own monitor uses. O(log
+    /// fixated bodies).
+    pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
+        self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
+            || bodies.get(h).is_some_and(|b| b.is_sleeping())
+    }
+
+    /// Primes the monitor's launch check with the world as it is now (see
+    /// [`crate::monitor::Monitor::prime`]): call it before the first step. No-op with
+    /// the monitor off. O(bodies).
+    pub fn prime_monitor(&mut self, view: &WorldView) {
+        if let Some(m) = &mut self.monitor {
+            m.monitor.prime(view);
+        }
+    }
+
+    /// The layer's monitor, if it is on. O(1).
+    pub fn monitor(&self) -> Option<&LayerMonitor> {
+        self.monitor.as_ref()
+    }
+
+    /// Tells the monitor that the caller pushed `body` before this step (set its
+    /// velocity, applied an impulse or a force): its contact group gets no launch check
+    /// in the step's analysis. Stale handles are ignored. O(1).
+    pub fn mark_pushed(&mut self, body: RigidBodyHandle) {
+        if let Some(m) = &mut self.monitor {
+            m.pushed.push(body);
+        }
+    }
+
+    /// Switches the paper's speed-ups on (`Some`) or off (`None`), at any time. The
+    /// configuration is validated first: invalid parameters are an error and change
+    /// nothing. See [`crate::speedups`] for what each switch does to the world.
+    ///
+    /// Switching them off releases fixated bodies and restores the hook flags and
+    /// damping the speed-ups changed, in the next pre-step; Rapier's sleep thresholds
+    /// go back to Rapier's defaults.
+    pub fn set_speedups(&mut self, config: Option<SpeedUps>) -> Result<()> {
+        match config {
+            Some(c) => {
+                c.validate()?;
+                let was = self.speedups().map(|s| s.config().subgroup);
+                if was.unwrap_or(false) != c.subgroup {
+                    self.regroup_all();
+                }
+                match &mut self.speedups {
+                    Some(s) => s.reconfigure(c),
+                    None => self.speedups = Some(SpeedUpState::new(c)),
+                }
+            }
+            None => {
+                if self.speedups().is_some_and(|s| s.config().subgroup) {
+                    self.regroup_all();
+                }
+                if let Some(s) = &mut self.speedups {
+                    s.detach();
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Dissolves every group (their bodies are regrouped at the next analysis), when
+    /// what insulates changes. O(groups).
+    fn regroup_all(&mut self) {
+        let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
+        for id in ids {
+            self.groups.dissolve(&mut self.graph, id);
+        }
+    }
+
+    /// The speed-ups' state, if they are on.
+    pub fn speedups(&self) -> Option<&SpeedUpState> {
+        self.speedups.as_ref().filter(|s| !s.is_detached())
+    }
+
+    /// The physics hooks to give Rapier when stepping it yourself (see
+    /// [`HooksView`]). Rapier calls them only for colliders the layer flagged (rule
+    /// members, and the colliders a contact speed-up concerns).
+    pub fn hooks(&self) -> HooksView<'_> {
+        HooksView {
+            state: &self.logic.hooks,
+            graph: &self.graph,
+        }
+    }
+}

@@ -1,0 +1,248 @@
+//! One step of the layer: the pre-step (queued logical changes, timers, speed-up
+//! decisions applied), Rapier's step with the layer's hooks, and the analysis
+//! (paper §3, §5, Fig. 11), with the events sent at its end (§4's safe point).
+
+use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
+
+use crate::coherence::Screen;
+use crate::graph::NodeSource;
+use crate::logic::WorldMut;
+use crate::WorldView;
+
+use super::{ContactLayer, StepStats};
+
+impl ContactLayer {
+    /// Runs the pre-step ([`Self::pre_step`]), one Rapier step with the layer's hooks,
+    /// then the analysis ([`Self::analyze`]).
+    ///
+    /// Cost: Rapier's step, plus the analysis: O(pairs of awake bodies + members of the
+    /// rebuilt groups + events), plus O(bodies + colliders) on a step where their count
+    /// changed.
+    pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
+        self.pre_step(WorldMut::from(&mut *world));
+        world.step_with_events(&self.hooks(), &());
+        self.analyze(WorldView::from(&*world))
+    }
+
+    /// Applies the queued logical changes to the world (hook flags of rule members,
+    /// passive bodies, trigger collision types, the speed-ups' fixations), after
+    /// checking them against the world as it is now: what Rapier would panic on is
+    /// refused or guarded (see [`Self::set_passive`] and [`Self::refusals`]).
+    /// [`Self::step`] calls it; users who step Rapier themselves call it before each
+    /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
+    /// is passive; O(passive bodies) while some are (their joints are checked when the
+    /// world has impulse joints, their multibody membership when it has multibodies).
+    pub fn pre_step(&mut self, mut world: WorldMut) {
+        let colliders_changed = world.colliders.len() != self.colliders_seen;
+        self.colliders_seen = world.colliders.len();
+        self.logic.pre_step(
+            &self.graph,
+            &mut world,
+            colliders_changed,
+            self.coherence.created_nodes(),
+        );
+        if let Some(mut m) = self.monitor_restore.take() {
+            m.restore(&mut world);
+        }
+        if let Some(m) = &mut self.monitor {
+            let mut woken = Vec::new();
+            m.apply(
+                &mut world,
+                &self.graph,
+                &self.groups,
+                self.speedups.as_mut(),
+                &mut self.logic.hooks.mods,
+                &mut woken,
+            );
+            let suspend = m.thinning_suspended();
+            if let Some(s) = &mut self.speedups {
+                s.suspend_thinning = suspend;
+                if s.config().subgroup {
+                    // Woken bodies stop insulating: regroup them.
+                    for n in woken {
+                        self.groups.disturb(&mut self.graph, n);
+                    }
+                }
+            }
+        }
+        if let Some(s) = &mut self.speedups {
+            s.pre_step(&mut world, &mut self.logic.hooks.mods);
+        }
+    }
+
+    /// The post-step analysis alone, for users who step Rapier themselves (their own
+    /// `PhysicsPipeline::step` or `PhysicsWorld::step_with_events`). Call it once after
+    /// every step.
+    pub fn analyze(&mut self, view: WorldView) -> StepStats {
+        self.gravity = view.gravity;
+        let force = std::mem::take(&mut self.logic.force);
+        let screen = Screen {
+            rules: self.logic.hooks.table(),
+            force: &force,
+        };
+        self.coherence
+            .update(&mut self.graph, &mut self.groups, &view, &screen);
+        let step = self.coherence.step();
+        for r in self.coherence.removed_nodes() {
+            if let NodeSource::Body(h) = r.source {
+                self.logic.forget_body(h);
+            }
+        }
+
+        // Containers follow the joints; bodies whose structure changed are regrouped
+        // (and their kind refreshed: multibody links are `Link`s).
+        let mut created = Vec::new();
+        // Kind changes (a jointed body turned fixed, e.g. by fixation) change which
+        // bodies a container holds: resync then.
+        let force = self.coherence.kind_changes() > 0;
+        let changed = self.logic.containers.sync(
+            &mut self.graph,
+            &view,
+            step,
+            &mut created,
+            force,
+            &mut self.groups,
+        );
+        for n in changed.into_iter().chain(created) {
+            if let Some(h) = self.graph.body_of(n) {
+                let mut sink = Vec::new();
+                crate::graph::mirror::ensure_body_node(&mut self.graph, &view, h, &mut sink);
+            }
+            self.groups.disturb(&mut self.graph, n);
+        }
+        self.coherence
+            .take_dropped(&mut self.graph, &mut self.groups);
+
+        if let Some(s) = &mut self.speedups {
+            s.track(
+                &self.graph,
+                &view,
+                self.coherence.refreshed_nodes(),
+                self.coherence.sleep_changes(),
+                &mut self.logic.hooks.mods,
+            );
+        }
+        if let Some(s) = &self.speedups {
+            if s.config().subgroup {
+                for &h in &s.sleepy_changed {
+                    if let Some(n) = self.graph.node_of_body(h) {
+                        self.groups.disturb(&mut self.graph, n);
+                    }
+                }
+            }
+        }
+        let (grouping, subgroup) = match &self.speedups {
+            Some(s) if !s.is_detached() => (s.config().groups, s.config().subgroup),
+            _ => (true, false),
+        };
+        if !grouping && !self.groups.is_empty() {
+            // Groups switched off: forget them (once).
+            let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
+            for id in ids {
+                self.groups.dissolve(&mut self.graph, id);
+            }
+            self.groups.clear_roots();
+        }
+        if grouping {
+            let speedups = self.speedups.as_ref();
+            self.groups.rebuild(&mut self.graph, step, &|g, n| {
+                let Some(node) = g.node(n) else { return false };
+                node.kind().is_insulator()
+                    || (subgroup
+                        && node
+                            .body()
+                            .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
+            });
+            self.groups
+                .apply_contact_deltas(&self.graph, self.coherence.touched_edges(), step);
+        }
+        if let Some(s) = &mut self.speedups {
+            s.decide(
+                &self.graph,
+                &view,
+                &self.groups,
+                self.coherence.refreshed_nodes(),
+                self.coherence.touched_edges(),
+                !self.coherence.removed_nodes().is_empty(),
+                step,
+            );
+            if s.is_detached() && s.is_idle() {
+                self.speedups = None;
+            }
+        }
+
+        // The monitor (reads the world; repairs are applied in the next pre-step).
+        let mut violations = 0;
+        if let Some(mut m) = self.monitor.take() {
+            let held = |h: RigidBodyHandle| self.holds(view.bodies, h);
+            let pushed = std::mem::take(&mut m.pushed);
+            m.monitor.check_with_quarantine(
+                self.analysis_view(),
+                &view,
+                &held,
+                &|h| pushed.contains(&h),
+                view.quarantined,
+            );
+            violations = m.monitor.last_count();
+            let released: Vec<RigidBodyHandle> = self
+                .speedups
+                .as_ref()
+                .map(|s| s.pending_releases().to_vec())
+                .unwrap_or_default();
+            self.monitor_events.clear();
+            let want = self
+                .bus
+                .wanted()
+                .intersects(crate::events::KindSet::MONITOR);
+            m.plan(
+                step,
+                &self.graph,
+                &self.groups,
+                &view,
+                self.coherence.refreshed_nodes(),
+                &released,
+                &mut self.monitor_events,
+                want,
+            );
+            self.monitor = Some(m);
+        }
+
+        self.ticks.clear();
+        if !self.logic.timers.is_empty() {
+            self.logic.timers.advance(view.dt, &mut self.ticks);
+        }
+
+        self.events.clear();
+        if !self.bus.is_empty() {
+            let marks = crate::events::collect::StepMarks {
+                step,
+                graph: &self.graph,
+                removed_edges: self.coherence.removed_edges(),
+                touched: self.coherence.touched_edges(),
+                sleep_changes: self.coherence.sleep_changes(),
+                ticks: &self.ticks,
+                removed_nodes: self.coherence.removed_nodes(),
+            };
+            crate::events::collect::collect(&marks, self.bus.wanted(), &mut self.events);
+            let wanted = self.bus.wanted();
+            self.events.extend(
+                self.monitor_events
+                    .drain(..)
+                    .filter(|e| wanted.contains(e.kind)),
+            );
+            self.bus.dispatch(&self.events, &self.graph);
+        }
+
+        self.stats = StepStats {
+            step,
+            nodes: self.graph.node_count(),
+            edges: self.graph.edge_count(),
+            awake_bodies: view.islands.num_active_bodies(),
+            walk: self.coherence.counters(),
+            groups: self.groups.stats(),
+            events: self.events.len(),
+            violations,
+        };
+        self.stats
+    }
+}
