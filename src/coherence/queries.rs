@@ -1,0 +1,99 @@
+//! What the analysis of the last step found: refreshed and removed nodes and edges,
+//! sleep and kind changes, its counters; and its settings.
+
+use crate::graph::{ContactGraph, Edge, EdgeId, NodeId};
+
+use super::*;
+
+impl Coherence {
+    /// The index of the last analysed step (0 before the first).
+    pub fn step(&self) -> u64 {
+        self.step
+    }
+
+    /// Edges refreshed in the last step: their marks are valid. In a deterministic
+    /// order: Rapier's pair order, then the edges found vanished.
+    pub fn touched_edges(&self) -> &[EdgeId] {
+        &self.touched
+    }
+
+    /// Takes the addresses of the triggers' shapes from `colliders` (after a restore:
+    /// an address means nothing in another process). O(triggers).
+    #[cfg(feature = "serde")]
+    pub(crate) fn rebind_trigger_shapes(
+        &mut self,
+        graph: &ContactGraph,
+        colliders: &rapier3d::prelude::ColliderSet,
+    ) {
+        for (n, st) in self.trigger_states.iter_mut() {
+            if let Some(NodeSource::Sensor(c)) = graph.node(*n).map(|x| x.source()) {
+                if let Some(co) = colliders.get(c) {
+                    st.shape = TriggerState::of(co).shape;
+                }
+            }
+        }
+    }
+
+    /// Edges removed in the last step because one of their nodes left the world, with
+    /// their final state (marks `Vanished` where they were on).
+    pub fn removed_edges(&self) -> &[Edge] {
+        &self.removed_edges
+    }
+
+    /// Nodes removed in the last step.
+    pub fn removed_nodes(&self) -> &[RemovedNode] {
+        &self.removed_nodes
+    }
+
+    /// Nodes created in the last step.
+    pub fn created_nodes(&self) -> &[NodeId] {
+        &self.created
+    }
+
+    /// Nodes refreshed in the last step (awake now or at the update before).
+    pub fn refreshed_nodes(&self) -> &[NodeId] {
+        &self.walk
+    }
+
+    /// Bodies that fell asleep (`false`) or woke up (`true`) in the last step, in the
+    /// order they were refreshed.
+    pub fn sleep_changes(&self) -> &[(NodeId, bool)] {
+        &self.sleep_changes
+    }
+
+    /// Node kind changes seen in the last step.
+    pub fn kind_changes(&self) -> usize {
+        self.kind_changes
+    }
+
+    /// Counters of the last pair walk.
+    pub fn counters(&self) -> WalkCounters {
+        self.counters
+    }
+
+    /// Whether the per-edge contact details (relative pose and its change flag, closest
+    /// distance, deepest penetration, normal impulse, deepest normal) are maintained.
+    pub fn contact_details(&self) -> bool {
+        !self.skip_details
+    }
+
+    /// Turns the per-edge contact details on (the default) or off. Off, each collider
+    /// pair costs only its proximity, touching state and contact count; the details
+    /// keep their last values and support queries see no normals.
+    pub fn set_contact_details(&mut self, on: bool) {
+        self.skip_details = !on;
+    }
+
+    /// Chooses how pairs are found (see [`ScanPolicy`]).
+    pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
+        self.scan = policy;
+    }
+
+    /// Asks for a full scan of bodies and colliders at the next update, which also
+    /// refreshes every node (pairs and triggers read again): after changing a sleeping
+    /// or fixed body, or static geometry, in place (moving it, its type, a sensor
+    /// flag), which Rapier does not report. That update costs O(nodes + pairs).
+    pub fn request_full_sync(&mut self) {
+        self.force_full_sync = true;
+    }
+}

@@ -1,0 +1,456 @@
+//! The analysis of one step (paper §3, Fig. 11): node upkeep, the round-robin
+//! verification, removal of nodes, and the order in which the phases run.
+
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+
+use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
+use crate::groups::Groups;
+use crate::WorldView;
+
+use super::*;
+
+impl Coherence {
+    /// Checks a few nodes and Rapier body slots per step, round robin: a node whose
+    /// object is gone is removed, a body whose type changed in place gets its kind,
+    /// and a body without node gets one. It makes the graph consistent, within
+    /// `nodes / VERIFY_PER_STEP` steps, after changes the per-step upkeep cannot see
+    /// (removing and inserting bodies between two steps, retyping a sleeping body),
+    /// without a full scan. O(VERIFY_PER_STEP).
+    pub(super) fn verify_some(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+    ) {
+        let slots = graph.nodes.slot_count() as u32;
+        for i in round_robin(&mut self.verify_cursor, slots, VERIFY_PER_STEP) {
+            let Some(id) = graph.node_id_at(i) else {
+                continue;
+            };
+            let Some(source) = graph.node(id).map(|n| n.source) else {
+                continue;
+            };
+            if !nodes::source_exists(view, source) {
+                self.remove_node(graph, groups, id);
+            } else if let NodeSource::Body(h) = source {
+                nodes::ensure_body_node(graph, view, h, &mut self.created);
+            }
+        }
+        // Rapier's arenas may hold free slots beyond `len()`: cover the highest slot the
+        // graph has seen too.
+        let body_slots =
+            view.bodies.len().max(graph.body_slot_span()) as u32 + VERIFY_PER_STEP as u32;
+        for i in round_robin(&mut self.verify_body_cursor, body_slots, VERIFY_PER_STEP) {
+            if let Some((_, h)) = view.bodies.get_unknown_gen(i) {
+                if graph.node_of_body(h).is_none() {
+                    nodes::ensure_body_node(graph, view, h, &mut self.created);
+                }
+            }
+        }
+        let collider_slots =
+            view.colliders.len().max(graph.collider_slot_span()) as u32 + VERIFY_PER_STEP as u32;
+        for i in round_robin(
+            &mut self.verify_collider_cursor,
+            collider_slots,
+            VERIFY_PER_STEP,
+        ) {
+            if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
+                if c.is_sensor() {
+                    nodes::ensure_trigger_node(graph, view, h, &mut self.created);
+                } else if c.parent().is_none() {
+                    nodes::ensure_collider_owner(graph, view, h, &mut self.created);
+                }
+            }
+        }
+    }
+
+    /// Reports the edges a kind change dropped (ended, with `Vanished` marks) and
+    /// regroups their ends.
+    pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
+        let step = self.step;
+        for n in std::mem::take(&mut graph.evicted) {
+            self.remove_node(graph, groups, n);
+        }
+        for n in std::mem::take(&mut graph.kind_changed) {
+            self.kind_changes += 1;
+            groups.disturb(graph, n);
+        }
+        for mut e in std::mem::take(&mut graph.dropped) {
+            groups.disturb(graph, e.a);
+            groups.disturb(graph, e.b);
+            if e.cache.proximity {
+                e.cache.begin_update(true);
+                e.updated_step = step;
+                self.removed_edges.push(e);
+            }
+        }
+    }
+
+    pub(super) fn remove_node(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        id: NodeId,
+    ) {
+        let Some(node) = graph.node(id) else { return };
+        let record = RemovedNode {
+            id,
+            kind: node.kind,
+            source: node.source,
+        };
+        if let Some(g) = node.group {
+            groups.dissolve(graph, g);
+        }
+        // Neighbours lose an edge: their groups must be rebuilt.
+        let neighbours: Vec<NodeId> = graph.neighbors(id).map(|(m, _, _)| m).collect();
+        for m in neighbours {
+            groups.disturb(graph, m);
+        }
+        let step = self.step;
+        for mut e in graph.remove_node(id) {
+            e.cache.begin_update(true);
+            e.updated_step = step;
+            self.removed_edges.push(e);
+        }
+        self.removed_nodes.push(record);
+    }
+
+    /// Runs the analysis of one step. `step` must grow by one per call. `screen`
+    /// carries the logical test of Fig. 4 (rules) and the nodes the logic layer wants
+    /// refreshed even if asleep (rule members, bodies made passive or active).
+    pub(crate) fn update(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        screen: &Screen,
+    ) {
+        self.step += 1;
+        let step = self.step;
+        graph.clock = step;
+        self.touched.clear();
+        self.removed_edges.clear();
+        self.removed_nodes.clear();
+        self.created.clear();
+        self.sleep_changes.clear();
+        self.passive_changed.clear();
+        self.kind_changes = 0;
+        self.counters = WalkCounters::default();
+
+        // 1. Node upkeep.
+        self.pending_triggers.clear();
+        let requested = self.force_full_sync;
+        let counts_changed = self.known_bodies != Some(view.bodies.len())
+            || self.known_colliders != view.colliders.len();
+        let mut resized = Vec::new();
+        if counts_changed || requested {
+            self.force_full_sync = false;
+            let gone = nodes::full_sync(graph, view, &mut self.created, &mut resized);
+            for id in gone {
+                self.remove_node(graph, groups, id);
+            }
+            self.known_bodies = Some(view.bodies.len());
+            self.known_colliders = view.colliders.len();
+        }
+        self.verify_some(graph, groups, view);
+        self.walk.clear();
+        for h in view.islands.active_bodies() {
+            // Rapier keeps a body turned fixed in its active set: once the graph has it
+            // as fixed, there is nothing to refresh (it does not move).
+            if view.bodies.get(h).is_some_and(|b| b.is_fixed())
+                && graph
+                    .node_of_body(h)
+                    .and_then(|n| graph.node(n))
+                    .is_some_and(|n| n.kind == NodeKind::Fixed && n.seen_step != 0)
+            {
+                continue;
+            }
+            let Some(id) = nodes::ensure_body_node(graph, view, h, &mut self.created) else {
+                continue;
+            };
+            self.mark_refreshed(graph, view, id, h, true);
+        }
+        // Bodies that fell asleep, turned fixed or were disabled (awake at the last
+        // update), the nodes the logic layer asks for (rule members of any kind, bodies
+        // made passive or active), and bodies whose colliders were added or removed (a
+        // fixed body losing its collider inside a trigger: nobody else would notice).
+        let prev = std::mem::take(&mut self.awake_prev);
+        for &id in prev.iter().chain(screen.force.iter()).chain(resized.iter()) {
+            self.refresh_node(graph, groups, view, id);
+        }
+        // Nodes created this step are refreshed once whatever their state: a body
+        // Rapier put to sleep in its very first step (a huge dt), or new static
+        // geometry, still has its pairs read.
+        for i in 0..self.created.len() {
+            let id = self.created[i];
+            self.refresh_node(graph, groups, view, id);
+        }
+        // A requested full sync refreshes everything: the user changed a sleeping or
+        // fixed body (or static geometry) in place, which no Rapier list tells. O(nodes
+        // + pairs), on request only.
+        if requested {
+            let all: Vec<NodeId> = graph.nodes().map(|(id, _)| id).collect();
+            for id in all {
+                self.refresh_node(graph, groups, view, id);
+            }
+        }
+        self.awake_prev = prev;
+        self.awake_prev.clear();
+        for &id in &self.walk {
+            if graph.node(id).is_some_and(|n| n.awake) {
+                self.awake_prev.push(id);
+            }
+        }
+        self.take_dropped(graph, groups);
+        // Nodes created this step (e.g. a new fixed body) have no pairs walked from
+        // them, but their pairs with awake bodies are walked from the other side.
+        for i in 0..self.created.len() {
+            let id = self.created[i];
+            groups.disturb(graph, id);
+        }
+
+        // 2. Edge insertion and marks. When at least half of the moving bodies were
+        // refreshed, one sequential pass over Rapier's pair array beats walking each
+        // body's adjacency (which reaches every pair twice); otherwise the walk keeps
+        // the cost proportional to the refreshed bodies.
+        let walk = std::mem::take(&mut self.walk);
+        let moving = graph.count_of_kind(NodeKind::Rigid)
+            + graph.count_of_kind(NodeKind::Link)
+            + graph.count_of_kind(NodeKind::Scripted);
+        let scan = match self.scan {
+            ScanPolicy::Auto => 2 * walk.len() >= moving,
+            ScanPolicy::Scan => true,
+            ScanPolicy::Walk => false,
+        };
+        if scan {
+            self.scan_all_pairs(graph, view, screen);
+            self.counters.bodies = walk.len();
+        } else {
+            for &me in &walk {
+                self.walk_pairs(graph, view, screen, me);
+            }
+        }
+        // Trigger volumes: the triggers carried by refreshed bodies, the new ones and
+        // those asked for are read from their side; then the triggers whose sensor
+        // collider changed (moved with a fixed or passive carrier, or parentless);
+        // then the refreshed and new bodies' colliders meet the other triggers. The
+        // refreshed bodies' colliders are always looked at, so that a collider turned
+        // into a sensor gets its trigger in the same step: O(their colliders).
+        self.triggers.clear();
+        let mut sensors = Vec::new();
+        for &me in &walk {
+            if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
+                if let Some(rb) = view.bodies.get(h) {
+                    for &c in rb.colliders() {
+                        if view.colliders.get(c).is_some_and(|c| c.is_sensor()) {
+                            sensors.push(c);
+                        }
+                    }
+                }
+            }
+        }
+        let mut to_read: Vec<NodeId> = sensors
+            .into_iter()
+            .filter_map(|c| nodes::ensure_trigger_node(graph, view, c, &mut self.created))
+            .collect();
+        let created_now = self.created.clone();
+        to_read.extend(
+            created_now
+                .iter()
+                .copied()
+                .filter(|&n| graph.node(n).is_some_and(|n| n.kind == NodeKind::Trigger)),
+        );
+        to_read.append(&mut self.pending_triggers);
+        for t in to_read {
+            self.walk_trigger(graph, view, screen, t);
+        }
+        self.read_changed_triggers(graph, view, screen);
+        if graph.count_of_kind(NodeKind::Trigger) > 0 {
+            for &me in walk.iter().chain(created_now.iter()) {
+                self.walk_body_sensors(graph, view, screen, me);
+            }
+        }
+
+        // 3. Vanished edges and obsolete removal, for the refreshed bodies and the
+        // triggers they carry.
+        let triggers = std::mem::take(&mut self.triggers);
+        if scan {
+            // One sequential pass over the edge arena instead of each refreshed node's
+            // edges (random access, every edge twice): the scan already cost O(pairs).
+            self.dead.clear();
+            for (eid, e) in graph.edges() {
+                let dynamic = matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric);
+                if !dynamic || e.walk_stamp == step {
+                    continue;
+                }
+                let refreshed = |n| {
+                    graph
+                        .node(n)
+                        .is_some_and(|n: &crate::Node| n.seen_step == step)
+                };
+                if refreshed(e.a) || refreshed(e.b) {
+                    self.dead.push(eid);
+                }
+            }
+            for i in 0..self.dead.len() {
+                let eid = self.dead[i];
+                self.retire(graph, groups, view, eid);
+            }
+        }
+        for &me in walk.iter().filter(|_| !scan).chain(triggers.iter()) {
+            self.dead.clear();
+            let Some(node) = graph.node(me) else { continue };
+            for &eid in &node.edges {
+                let Some(e) = graph.edge(eid) else { continue };
+                let dynamic = matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric);
+                if dynamic && e.walk_stamp != step {
+                    self.dead.push(eid);
+                }
+            }
+            for i in 0..self.dead.len() {
+                let eid = self.dead[i];
+                self.retire(graph, groups, view, eid);
+            }
+        }
+        self.triggers = triggers;
+
+        // Groups change only where structure changed: a contact started or ended, a
+        // body woke, slept, became passive (above), changed kind or appeared (in
+        // `take_dropped` and node upkeep). A refreshed body without a group (first
+        // seen, released) is a root too.
+        for i in 0..self.touched.len() {
+            let Some(e) = graph.edge(self.touched[i]) else {
+                continue;
+            };
+            if e.kind == EdgeKind::Physical && e.cache.touching != e.cache.touching_old {
+                let (a, b) = (e.a, e.b);
+                groups.disturb(graph, a);
+                groups.disturb(graph, b);
+            }
+        }
+        for &(n, _) in &self.sleep_changes {
+            groups.disturb(graph, n);
+        }
+        for &me in &walk {
+            let ungrouped = graph
+                .node(me)
+                .is_some_and(|n| n.kind.is_simulated() && n.group.is_none() && !n.passive);
+            if ungrouped || self.passive_changed.contains(&me) {
+                groups.disturb(graph, me);
+            }
+        }
+        self.take_dropped(graph, groups);
+        self.walk = walk;
+        // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
+        // removed in the same step, so the list needs no sorting or filtering: its
+        // order is Rapier's pair order, then the vanished edges, which is deterministic.
+        debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
+    }
+
+    /// Refreshes one node whatever its state, if not done this step: a body's pairs are
+    /// read (it joins the walk), static geometry's too, a trigger is read from its side.
+    /// A node whose object is gone is removed. Containers and logical nodes: nothing.
+    pub(super) fn refresh_node(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        id: NodeId,
+    ) {
+        let step = self.step;
+        let Some(node) = graph.node(id) else { return };
+        if node.seen_step == step {
+            return;
+        }
+        match node.source {
+            NodeSource::Body(h) if view.bodies.contains(h) => {
+                let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
+                self.mark_refreshed(graph, view, id, h, false);
+            }
+            NodeSource::StaticCollider(c) if nodes::is_static_collider_node(view, c) => {
+                if let Some(n) = graph.node_mut(id) {
+                    n.seen_step = step;
+                }
+                self.walk.push(id);
+            }
+            NodeSource::Sensor(c) if view.colliders.get(c).is_some_and(|c| c.is_sensor()) => {
+                self.pending_triggers.push(id);
+            }
+            NodeSource::Body(_) | NodeSource::StaticCollider(_) | NodeSource::Sensor(_) => {
+                self.remove_node(graph, groups, id);
+            }
+            NodeSource::Container(_) | NodeSource::Layer(_) => {}
+        }
+    }
+
+    pub(super) fn mark_refreshed(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        id: NodeId,
+        h: RigidBodyHandle,
+        awake: bool,
+    ) {
+        let step = self.step;
+        let rb = view.bodies.get(h);
+        let finite = rb.is_some_and(|rb| {
+            rb.position().translation.is_finite() && rb.position().rotation.is_finite()
+        });
+        let enabled = rb.is_some_and(|rb| rb.is_enabled());
+        if let Some(n) = graph.node_mut(id) {
+            if n.seen_step == step {
+                return;
+            }
+            let was_passive = n.passive;
+            n.seen_step = step;
+            n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
+            n.non_finite = !finite;
+            n.passive = !enabled;
+            if was_passive != n.passive {
+                self.passive_changed.push(id);
+            }
+            // Sleep events report changes of a simulated, non-passive body's state
+            // against the last reported one: a body created this step starts (no
+            // event), a passive spell or a time as a fixed body reports nothing, and
+            // the events alternate.
+            if n.kind.is_simulated() && !n.passive {
+                match n.reported_awake {
+                    None => n.reported_awake = Some(n.awake),
+                    Some(r) if r != n.awake && n.born_step != step => {
+                        n.reported_awake = Some(n.awake);
+                        self.sleep_changes.push((id, n.awake));
+                    }
+                    Some(_) => n.reported_awake = Some(n.awake),
+                }
+            }
+            self.walk.push(id);
+        }
+    }
+
+    /// The node owning a collider, from the owner table (slow path: Rapier lookups,
+    /// creating the node if it is missing). `None` for sensors.
+    #[inline]
+    pub(super) fn owner_of(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        collider: ColliderHandle,
+    ) -> Option<NodeId> {
+        let (i, gen) = collider.into_raw_parts();
+        match self.owners.get(i as usize) {
+            Some(Owner::Node(g, n)) if *g == gen && graph.contains_node(*n) => return Some(*n),
+            Some(Owner::Nobody(g)) if *g == gen => return None,
+            _ => {}
+        }
+        let owner = nodes::ensure_collider_owner(graph, view, collider, &mut self.created);
+        if self.owners.len() <= i as usize {
+            self.owners.resize(i as usize + 1, Owner::Unknown);
+        }
+        self.owners[i as usize] = match owner {
+            Some(n) => Owner::Node(gen, n),
+            None if view.colliders.contains(collider) => Owner::Nobody(gen),
+            None => Owner::Unknown,
+        };
+        owner
+    }
+}
