@@ -101,7 +101,7 @@ fn settings_at_any_time() {
         coherence::ScanPolicy::Walk,
         coherence::ScanPolicy::Auto,
     ] {
-        layer.coherence_mut().set_scan_policy(policy);
+        layer.set_scan_policy(policy);
         layer.set_contact_details(false);
         layer.request_full_sync();
         layer.request_full_sync();

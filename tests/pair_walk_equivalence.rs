@@ -47,7 +47,7 @@ fn edge_set(layer: &ContactLayer, details: bool) -> BTreeSet<String> {
 fn run(policy: ScanPolicy, details: bool, steps: u64) -> Vec<BTreeSet<String>> {
     let mut scene = scenes::sphere_pile(150, 11);
     let mut layer = ContactLayer::new();
-    layer.coherence_mut().set_scan_policy(policy);
+    layer.set_scan_policy(policy);
     layer.set_contact_details(details);
     let mut out = Vec::new();
     for step in 0..steps {

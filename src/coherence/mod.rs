@@ -41,7 +41,7 @@
 //!   into a sensor gets its trigger in the same step (O(their colliders));
 //! - what none of this sees (a fixed body or static collider moved, retyped or turned
 //!   into a sensor in place; a sleeping body changed without waking it) needs
-//!   [`Coherence::request_full_sync`], which refreshes every node at the next update:
+//!   [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync), which refreshes every node at the next update:
 //!   O(nodes + pairs), on request only.
 //!
 //! Rejected: reading every trigger every step (a trigger over a settled pile would cost

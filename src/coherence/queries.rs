@@ -1,7 +1,7 @@
 //! What the analysis of the last step found: refreshed and removed nodes and edges,
 //! sleep and kind changes, its counters; and its settings.
 
-use crate::graph::{ContactGraph, Edge, EdgeId, NodeId};
+use crate::graph::{Edge, EdgeId, NodeId};
 
 use super::*;
 
@@ -80,12 +80,12 @@ impl Coherence {
     /// Turns the per-edge contact details on (the default) or off. Off, each collider
     /// pair costs only its proximity, touching state and contact count; the details
     /// keep their last values and support queries see no normals.
-    pub fn set_contact_details(&mut self, on: bool) {
+    pub(crate) fn set_contact_details(&mut self, on: bool) {
         self.skip_details = !on;
     }
 
     /// Chooses how pairs are found (see [`ScanPolicy`]).
-    pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
+    pub(crate) fn set_scan_policy(&mut self, policy: ScanPolicy) {
         self.scan = policy;
     }
 
@@ -93,7 +93,7 @@ impl Coherence {
     /// refreshes every node (pairs and triggers read again): after changing a sleeping
     /// or fixed body, or static geometry, in place (moving it, its type, a sensor
     /// flag), which Rapier does not report. That update costs O(nodes + pairs).
-    pub fn request_full_sync(&mut self) {
+    pub(crate) fn request_full_sync(&mut self) {
         self.force_full_sync = true;
     }
 }

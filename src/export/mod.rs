@@ -1,4 +1,5 @@
 //! Pictures of the contact graph.
 
+#[cfg(feature = "dot")]
 pub mod dot;
 pub mod text;

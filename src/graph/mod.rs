@@ -502,8 +502,8 @@ impl ContactGraph {
         Some(edge)
     }
 
-    /// A petgraph snapshot of the graph: node weights are the [`NodeId`]s, edge weights
-    /// the [`EdgeId`]s. O(nodes + edges).
+    /// A petgraph snapshot of the graph (feature `petgraph`): node weights are the
+    /// [`NodeId`]s, edge weights the [`EdgeId`]s. O(nodes + edges).
     ///
     /// # Example
     /// ```
@@ -511,6 +511,7 @@ impl ContactGraph {
     /// let g = ContactGraph::new().to_petgraph();
     /// assert_eq!(g.node_count(), 0);
     /// ```
+    #[cfg(feature = "petgraph")]
     pub fn to_petgraph(&self) -> petgraph::stable_graph::StableUnGraph<NodeId, EdgeId> {
         let mut g = petgraph::stable_graph::StableUnGraph::default();
         let mut map = HashMap::<NodeId, _, PairBuildHasher>::default();

@@ -3,7 +3,7 @@
 
 use rapier3d::prelude::{ColliderHandle, PhysicsWorld, RigidBodyHandle};
 
-use crate::coherence::{Coherence, RemovedNode};
+use crate::coherence::{Coherence, RemovedNode, ScanPolicy};
 use crate::graph::{ContactGraph, Edge, EdgeId, NodeId, NodeKind};
 use crate::groups::Groups;
 use crate::{Result, WorldView};
@@ -67,13 +67,16 @@ impl ContactLayer {
         }
     }
 
-    /// The analysis state, for its settings ([`Coherence::set_scan_policy`], ...).
-    pub fn coherence_mut(&mut self) -> &mut Coherence {
-        &mut self.coherence
+    /// How the analysis reads Rapier's pairs: walking the awake bodies' pairs, scanning
+    /// every pair, or choosing per step ([`ScanPolicy::Auto`], the default). Both
+    /// ways build the same graph (tested); the choice is only a matter of cost.
+    /// O(1).
+    pub fn set_scan_policy(&mut self, policy: ScanPolicy) {
+        self.coherence.set_scan_policy(policy);
     }
 
-    /// Turns the per-edge contact details on (the default) or off; see
-    /// [`Coherence::set_contact_details`]. A scene that needs only the marks, the
+    /// Turns the per-edge contact details on (the default) or off (closest distance,
+    /// contact count, deepest penetration, normal impulse). A scene that needs only the marks, the
     /// touching state and the groups pays less per contact pair with them off.
     /// Support queries need the details (the contact normals).
     pub fn set_contact_details(&mut self, on: bool) {
