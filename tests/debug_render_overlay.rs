@@ -1,4 +1,4 @@
-//! The contact graph as a debug-render overlay (issue 13, item 3): what
+//! The contact graph as a debug-render overlay : what
 //! `debug_render::GraphOverlay` draws into a Rapier `DebugRenderBackend`, on small
 //! scenes built here. Every step is followed by `layer.validate(&world)`.
 

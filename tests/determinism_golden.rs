@@ -1,4 +1,4 @@
-//! Golden determinism hashes (issue 6, item 2; in the style of Box2D's and Avian's
+//! Golden determinism hashes (in the style of Box2D's and Avian's
 //! determinism tests).
 //!
 //! One fixed scene is run for 1,000 steps in four modes:

@@ -1,4 +1,4 @@
-//! Fuzzed operation sequences (issue 6, item 1): random sequences of world and layer
+//! Fuzzed operation sequences : random sequences of world and layer
 //! operations interleaved with steps, checked after every analysed step.
 //!
 //! # The operation language ([`harness::Op`])

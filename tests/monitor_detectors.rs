@@ -1,4 +1,4 @@
-//! The plausibility monitor's detectors (DESIGN §6): each one fires in a scene built to
+//! The plausibility monitor's detectors (paper §8, Figs. 15 and 17): each one fires in a scene built to
 //! trigger it, and none fires in the ordinary scenes (a settling pile, bounces,
 //! collisions, a toppling stack, a multibody pendulum, DIKU).
 //!
@@ -769,7 +769,7 @@ fn quiet_scenes_report_nothing() {
         assert_eq!(totals.escape, 0, "{}: {found:?}", scene.name);
         if scene.name == "pendulum_wall" {
             // The free link (10 cm thick) strikes the wall at ~3 m/s and sinks 3.2 cm
-            // into it, a third of its thickness: a real deep penetration by DESIGN §6,
+            // into it, a third of its thickness: a real deep penetration by the definition in `docs/ARCHITECTURE.md` §6,
             // reported once.
             let l2 = scene.body("l2").unwrap();
             assert_eq!(totals.deep_penetration, 1, "{found:?}");

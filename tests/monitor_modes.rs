@@ -1,4 +1,4 @@
-//! The layer's monitor in its three modes (issue 5): off, report, repair.
+//! The layer's monitor in its three modes: off, report, repair.
 //!
 //! - report mode counts and sends violations and does not change motion (bit for bit);
 //! - repair mode wakes and releases what lost its support before it is a violation;

@@ -1,4 +1,4 @@
-//! Attaching the layer changes nothing in Rapier's results (DESIGN §7).
+//! Attaching the layer changes nothing in Rapier's results (`docs/ARCHITECTURE.md` §6).
 
 mod common;
 

@@ -1,5 +1,5 @@
 //! Each speed-up switch acts through its mechanism, and the ones that should not
-//! change motion do not (DESIGN §4).
+//! change motion do not (paper §7; the realisations are listed in `docs/ARCHITECTURE.md`).
 
 mod common;
 

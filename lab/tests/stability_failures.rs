@@ -1,4 +1,4 @@
-//! The stability suite (issue 5): each scene of `scenes::stability` fails where the
+//! The stability suite: each scene of `scenes::stability` fails where the
 //! measured table says it fails, and nowhere else it was built to fail.
 //!
 //! For every scene:
@@ -270,7 +270,7 @@ fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
 #[test]
 fn the_suite_is_complete_cheap_and_deterministic() {
     let suite = stability::suite();
-    assert_eq!(suite.len(), 13, "the 13 scenes of issue 5");
+    assert_eq!(suite.len(), 13, "the 13 scenes of the suite");
     for case in suite {
         let a = (case.build)();
         assert_eq!(a.name, case.name);

@@ -6,11 +6,12 @@
 //! determination. Rapier's step does all three internally, and already has the
 //! paper's "relative transform unchanged → skip the narrow phase" test (contact
 //! recycling). So this pass runs *after* Rapier's step, reading the narrow phase:
-//! 1. node upkeep (`nodes.rs`): bodies awake now or at the last update are refreshed;
+//! 1. node upkeep (`update.rs`, creating nodes through `graph::mirror`): bodies awake now or at the last update are refreshed;
 //!    a full scan only when the body or collider count changed (it refreshes the
 //!    bodies whose own collider count changed) or on request (it refreshes every
 //!    node);
-//! 2. edge insertion and marks (`pairs.rs`, Figs. 3 and 5): each collider pair of a
+//! 2. edge insertion and marks (`pair_update.rs`, Figs. 3 and 5; triggers in
+//!    `triggers.rs`): each collider pair of a
 //!    refreshed body is aggregated into the physical edge of its two bodies, whose
 //!    proximity and touching states are shifted to `e_old` first;
 //! 3. vanishing and obsolete removal (`obsolete.rs`, §3.1): an edge of a refreshed body

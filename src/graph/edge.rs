@@ -53,7 +53,7 @@ impl Transition {
     }
 }
 
-/// The per-edge cache of a physical edge (DESIGN §2).
+/// The per-edge cache of a physical edge (paper §2, Tables 1–2).
 ///
 /// Distances follow Rapier's sign convention: negative is penetration.
 #[derive(Clone, Debug, PartialEq)]

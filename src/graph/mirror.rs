@@ -16,7 +16,7 @@ use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource};
 use crate::WorldView;
 
-/// The node kind of a Rapier body (DESIGN §2).
+/// The node kind of a Rapier body (paper §2, Tables 1–2).
 pub(crate) fn kind_of_body(view: &WorldView, handle: RigidBodyHandle, rb: &RigidBody) -> NodeKind {
     match rb.body_type() {
         RigidBodyType::Fixed => NodeKind::Fixed,

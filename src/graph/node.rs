@@ -12,7 +12,7 @@ use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use super::EdgeId;
 
-/// The kinds of node of the paper's Table 1, as mapped onto Rapier (DESIGN §2).
+/// The kinds of node of the paper's Table 1, as mapped onto Rapier (paper §2, Tables 1–2).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NodeKind {

@@ -25,8 +25,9 @@
 
 use crate::graph::{Arena, ContactGraph, EdgeId, EdgeKind, NodeId, NodeKind};
 
-/// A contact group's id: generational, valid while the group lives (an awake group
-/// lives for one step; a sleeping one until it is disturbed).
+/// A contact group's id: generational, valid while the group lives: until its
+/// structure changes (a contact starts or ends between its bodies, a body joins,
+/// leaves, wakes, sleeps or changes kind), when it is rebuilt under a new id.
 #[repr(transparent)]
 #[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

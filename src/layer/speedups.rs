@@ -11,7 +11,7 @@ use crate::{Result, WorldView};
 use super::ContactLayer;
 
 impl ContactLayer {
-    /// Sets the plausibility monitor ([`crate::monitor`], DESIGN §6) the layer runs
+    /// Sets the plausibility monitor ([`crate::monitor`], paper §8) the layer runs
     /// after each analysis: [`MonitorMode::Off`] removes it; [`MonitorMode::Report`]
     /// counts violations ([`StepStats::violations`](crate::StepStats::violations)) and sends them as
     /// [`crate::events::EventKind::Violation`] events; [`MonitorMode::Repair`] also

@@ -5,7 +5,7 @@
 //! The graph changes at once: `add_rule` returns the rule's node, with its logical
 //! edges, immediately. What must touch the Rapier world (hook flags, enabling or
 //! disabling a passive body, sensor collision types) is queued and applied in the
-//! *pre-step* (DESIGN §2, step 1): [`crate::ContactLayer::step`] does it before
+//! *pre-step* (paper §5, Fig. 11: step 1): [`crate::ContactLayer::step`] does it before
 //! Rapier's step; users who step Rapier themselves call
 //! [`crate::ContactLayer::pre_step`]. Their effect on edges and events shows after
 //! that step's analysis.

@@ -9,7 +9,7 @@
 //!
 //! Hook flags go only on the colliders of the bodies a rule names: a flag anywhere else
 //! would switch off Rapier's contact recycling for that collider and change results
-//! (facts note). A scene without rules sets no flag at all.
+//! (`docs/rapier-notes.md`). A scene without rules sets no flag at all.
 
 use std::collections::HashMap;
 use std::fmt;

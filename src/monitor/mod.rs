@@ -1,4 +1,4 @@
-//! The plausibility monitor (DESIGN §6): detectors for the failures that the paper's
+//! The plausibility monitor (paper §8, Figs. 15 and 17): detectors for the failures that the paper's
 //! speed-ups cause, run once per step after the analysis.
 //!
 //! # What is detected, and why this way
@@ -84,12 +84,12 @@ use crate::groups::Groups;
 use crate::speedups::SpeedUpState;
 use crate::{Error, Result, WorldView};
 
-/// Thresholds of the detectors (DESIGN §6 gives the defaults).
+/// Thresholds of the detectors (defaults as defined in `docs/ARCHITECTURE.md` §6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MonitorConfig {
     /// Seconds a held body may stay without support before it is a hanging sleeper
-    /// (strictly longer than this). Default 0.1 s (DESIGN §6).
+    /// (strictly longer than this). Default 0.1 s (paper §8, Figs. 15 and 17).
     pub hang_time: Real,
     /// Deepest allowed penetration as a fraction of the smaller body's size. Default 0.1.
     pub penetration_fraction: Real,

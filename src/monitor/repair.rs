@@ -1,4 +1,4 @@
-//! The monitor owned by the layer: off, report, or repair (issue 5).
+//! The monitor owned by the layer: off, report, or repair.
 //!
 //! # Modes
 //! - **Off**: nothing runs; the layer costs what it cost without a monitor.

@@ -1,4 +1,4 @@
-//! The switches of the paper's §7 and their parameters (DESIGN §4).
+//! The switches of the paper's §7 and their parameters (paper §7; the realisations are listed in `docs/ARCHITECTURE.md`).
 
 use std::fmt;
 

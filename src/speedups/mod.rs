@@ -1,4 +1,4 @@
-//! The paper's speed-ups (§7) as switches on a stock Rapier world (DESIGN §4).
+//! The paper's speed-ups (§7) as switches on a stock Rapier world.
 //!
 //! # How each switch is realised
 //! - **groups**: the paper's traversal drives the sleep decision and the statistics.
@@ -9,7 +9,7 @@
 //!   (Rapier's activation thresholds), every other body never eligible, and Rapier
 //!   puts an island to sleep exactly when all its bodies are eligible. Rapier is thus
 //!   never left with a partly sleeping island (a partly sleeping island sinks under
-//!   gravity: facts note), and it keeps splitting its islands, which it only does for
+//!   gravity: `docs/rapier-notes.md`), and it keeps splitting its islands, which it only does for
 //!   islands holding eligible bodies. Waking is Rapier's: a body touching or pushing
 //!   the island, or a user change, wakes it as a whole; a woken body's rest count
 //!   starts again.
@@ -36,7 +36,7 @@
 //!   the user joined to a multibody as a link meanwhile (O(held bodies), only while
 //!   the world has a multibody).
 //!
-//! Rejected for fixation: locked axes with zeroed velocity (facts note: holds a body
+//! Rejected for fixation: locked axes with zeroed velocity (`docs/rapier-notes.md`: holds a body
 //! bit-identically and keeps its contacts). It keeps the body in the solver, so it
 //! saves nothing, which is the point of the switch.
 //!

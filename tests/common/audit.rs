@@ -1,5 +1,5 @@
-//! Helpers of the bad-input audit (issue 6, item 4): the `tests/bad_input_*.rs` files,
-//! one test per row of the table in `src/audit.rs` (`rapier_contact_graph::audit`),
+//! Helpers of the bad-input audit: the `tests/bad_input_*.rs` files,
+//! one test per row of the table in `docs/audit.md`,
 //! named as the table names it, split by the entry point (or family of entry points)
 //! the rows cover.
 //!

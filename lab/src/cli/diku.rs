@@ -1,7 +1,7 @@
 //! `rcg-lab diku`: the project's main job. The DIKU scene (paper §7, Fig. 12) run
 //! under the reference, brute force, the contact graph, stock Rapier and all 2^7
 //! combinations of cache, tweak, reduce, zero, damp, subgroup and fixate; every run
-//! measured for speed and accuracy in one process (DESIGN §5).
+//! measured for speed and accuracy in one process (paper §7, Tables 4–5).
 //!
 //! ```text
 //! cargo lab diku [--spheres N] [--configs all|quick|LIST] [--steps K] [--seed S] [--out DIR]
@@ -76,7 +76,7 @@ pub fn parse_configs(list: &str) -> Result<Configs, String> {
             out.extend(named);
             out.push(RunSpec::contact_graph().with_repair());
             out.extend((0..128u8).map(RunSpec::combination));
-            // Every combination again with the monitor repairing (issue 5): the speed
+            // Every combination again with the monitor repairing: the speed
             // given up for safety.
             out.extend((0..128u8).map(|b| RunSpec::combination(b).with_repair()));
         }
@@ -324,7 +324,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         );
     }
     // The best zero-violation configuration with and without repair, against stock
-    // Rapier (issue 5's target: the best repaired one >= 3x stock at N >= 1,200).
+    // Rapier (the target: the best repaired one >= 3x stock at N >= 1,200).
     let stock_dev = results
         .iter()
         .find(|(s, _)| s.name == "stock Rapier")

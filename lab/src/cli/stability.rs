@@ -1,4 +1,4 @@
-//! `rcg-lab stability`: the stability suite measured (issue 5). Every scene of
+//! `rcg-lab stability`: the stability suite measured. Every scene of
 //! [`rcg_scenes::stability`] under the reference, brute force, stock
 //! Rapier, the contact graph and all 2^7 combinations of the speed-up switches; each
 //! run's deviation from the scene's reference and its plausibility violations by kind.

@@ -1,4 +1,4 @@
-//! Charts of the speed-versus-accuracy run (design brief §5 and §7) and frames of a
+//! Charts of the speed-versus-accuracy run (paper §7, Tables 4–5) and frames of a
 //! scene, drawn with well-kept libraries.
 //!
 //! The main job measures every configuration (reference, brute force, contact graph,
@@ -13,7 +13,7 @@
 //! collider's lines in the colour of its body's state, as in the paper's Fig. 17.
 //!
 //! # Design
-//! Until issue 13 this module drew with its own hand-written chart layout, SVG writer,
+//! Until the laboratory moved out of the plugin, this module drew with its own hand-written chart layout, SVG writer,
 //! anti-aliasing rasteriser, 5×9 bitmap font and PNG encoder (stored deflate blocks:
 //! a chart was 1.9 MB). Each is now a library's job:
 //! - **[plotters]** draws the chart: coordinate system, mesh (grid, ticks, tick
@@ -83,7 +83,7 @@ pub struct ChartPoint {
     pub deviation: f64,
     /// y: speed-up over brute force (higher is better).
     pub speedup: f64,
-    /// Plausibility violations counted during the run (design brief §6).
+    /// Plausibility violations counted during the run (paper §8).
     pub violations: u64,
     /// What kind of configuration this is; chooses the marker.
     pub kind: PointKind,
