@@ -21,14 +21,7 @@ fn main() {
         spheres,
         ..DikuParams::default()
     };
-    let mut bodies: Vec<RigidBodyHandle> = diku(&params)
-        .world
-        .bodies
-        .iter()
-        .filter(|(_, b)| b.is_dynamic())
-        .map(|(h, _)| h)
-        .collect();
-    bodies.sort_by_key(|h| h.into_raw_parts());
+    let bodies: Vec<RigidBodyHandle> = diku(&params).dynamic_bodies();
     let inside = |p| is_on_plane(&params, p);
     let specs = [
         RunSpec::brute_force(),

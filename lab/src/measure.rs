@@ -195,7 +195,9 @@ pub struct RunOptions<'a> {
     pub monitor: MonitorConfig,
 }
 
-fn sample(scene: &Scene, bodies: &[RigidBodyHandle]) -> Vec<Vector> {
+/// Every body's position (NaN for a body the scene lacks), in the given order: one
+/// frame of a [`Trajectory`]. O(bodies).
+pub fn sample(scene: &Scene, bodies: &[RigidBodyHandle]) -> Vec<Vector> {
     bodies
         .iter()
         .map(|&h| {

@@ -239,15 +239,7 @@ impl StabilityCase {
     /// The measured bodies of a freshly built scene, in order. O(bodies).
     pub fn measured_bodies(&self, scene: &Scene) -> Vec<RigidBodyHandle> {
         if self.measured.is_empty() {
-            let mut v: Vec<RigidBodyHandle> = scene
-                .world
-                .bodies
-                .iter()
-                .filter(|(_, b)| b.is_dynamic())
-                .map(|(h, _)| h)
-                .collect();
-            v.sort_by_key(|h| h.into_raw_parts());
-            v
+            scene.dynamic_bodies()
         } else {
             self.measured.iter().filter_map(|n| scene.body(n)).collect()
         }

@@ -20,7 +20,6 @@
 #[path = "../../tests/common/mod.rs"]
 mod common;
 
-use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 use rapier_contact_graph::monitor::{
     Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
@@ -59,18 +58,7 @@ fn run(
             scene.world.quarantine().bodies(),
         );
         if (step + 1) % stability::SAMPLE_EVERY == 0 || step + 1 == case.steps {
-            traj.frames.push(
-                bodies
-                    .iter()
-                    .map(|&h| {
-                        scene
-                            .world
-                            .bodies
-                            .get(h)
-                            .map_or(Vector::splat(Real::NAN), |b| b.translation())
-                    })
-                    .collect(),
-            );
+            traj.frames.push(rcg_lab::measure::sample(&scene, &bodies));
         }
     }
     let t = monitor.totals();

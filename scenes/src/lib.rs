@@ -78,6 +78,20 @@ impl Scene {
             .map(|&(_, h)| h)
     }
 
+    /// The scene's dynamic bodies in handle order: the bodies a measurement follows.
+    /// O(bodies).
+    pub fn dynamic_bodies(&self) -> Vec<RigidBodyHandle> {
+        let mut v: Vec<RigidBodyHandle> = self
+            .world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(h, _)| h)
+            .collect();
+        v.sort_by_key(|h| h.into_raw_parts());
+        v
+    }
+
     /// Runs the script (if any) for `step` — call before stepping.
     pub fn before_step(&mut self, step: u64) {
         if let Some(script) = self.script {

@@ -165,18 +165,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         seed: args.seed,
         ..DikuParams::default()
     };
-    let spheres: Vec<RigidBodyHandle> = {
-        let scene = diku(&params);
-        let mut v: Vec<_> = scene
-            .world
-            .bodies
-            .iter()
-            .filter(|(_, b)| b.is_dynamic())
-            .map(|(h, _)| h)
-            .collect();
-        v.sort_by_key(|h| h.into_raw_parts());
-        v
-    };
+    let spheres: Vec<RigidBodyHandle> = diku(&params).dynamic_bodies();
     let inside = |p| is_on_plane(&params, p);
     println!(
         "DIKU scene: {} spheres, {} steps of 0.01 s, {} configurations",
