@@ -177,6 +177,12 @@ pub struct LayerSnapshot {
 }
 
 impl LayerSnapshot {
+    /// The saved state, to corrupt in tests.
+    #[cfg(test)]
+    pub(crate) fn state_mut(&mut self) -> &mut LayerState {
+        &mut self.state
+    }
+
     /// The index of the last step the layer had analysed. O(1).
     pub fn step(&self) -> u64 {
         self.state.coherence.step()
@@ -512,7 +518,18 @@ fn mismatch(snapshot: &LayerSnapshot, view: &WorldView) -> String {
 }
 
 /// The checks of a deserialised state that later steps rely on (see the module docs).
+/// The largest step count a restored layer may hold. The analysis tells steps apart by
+/// their number, so the count must have room to grow: 2^62 steps at 1 µs each take
+/// 146,000 years, so only corrupted bytes come near it.
+const MAX_RESTORED_STEP: u64 = 1 << 62;
+
 fn check_state(s: &LayerState) -> std::result::Result<(), String> {
+    if s.coherence.step() > MAX_RESTORED_STEP {
+        return Err(format!(
+            "a step count of {} (more than 2^62: corrupted)",
+            s.coherence.step()
+        ));
+    }
     let g = &s.graph;
     g.nodes.check().map_err(|e| format!("node arena: {e}"))?;
     g.edges.check().map_err(|e| format!("edge arena: {e}"))?;

@@ -6,6 +6,12 @@ use crate::graph::{Edge, EdgeId, NodeId};
 use super::*;
 
 impl Coherence {
+    /// Sets the step counter (tests of counters at the end of their range).
+    #[cfg(test)]
+    pub(crate) fn set_step_for_test(&mut self, step: u64) {
+        self.step = step;
+    }
+
     /// The index of the last analysed step (0 before the first).
     pub fn step(&self) -> u64 {
         self.step

@@ -125,7 +125,8 @@ impl Coherence {
         view: &WorldView,
         screen: &Screen,
     ) {
-        self.step += 1;
+        // Saturating: a step count near u64::MAX comes only from restored bytes.
+        self.step = self.step.saturating_add(1);
         let step = self.step;
         graph.clock = step;
         self.touched.clear();

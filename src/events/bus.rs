@@ -63,7 +63,7 @@ impl EventBus {
 
     fn add(&mut self, filter: Filter, tx: Sender<Event>) -> SubscriptionId {
         let id = SubscriptionId(self.next_id);
-        self.next_id += 1;
+        self.next_id = self.next_id.saturating_add(1);
         self.subs.push(Subscription {
             id,
             filter,
@@ -154,10 +154,10 @@ impl EventBus {
                     continue;
                 }
                 match sub.tx.try_send(*ev) {
-                    Ok(()) => self.sent += 1,
+                    Ok(()) => self.sent = self.sent.saturating_add(1),
                     Err(TrySendError::Full(_)) => {
-                        sub.dropped += 1;
-                        self.dropped += 1;
+                        sub.dropped = sub.dropped.saturating_add(1);
+                        self.dropped = self.dropped.saturating_add(1);
                     }
                     Err(TrySendError::Disconnected(_)) => {
                         gone.push(sub.id);

@@ -182,6 +182,17 @@ impl ContactGraph {
         })
     }
 
+    /// Clears every node's and edge's traversal stamp, so that a traversal numbering
+    /// that ran out of range can start again. O(nodes + edges).
+    pub(crate) fn clear_stamps(&mut self) {
+        for n in self.nodes.values_mut() {
+            n.visit_stamp = 0;
+        }
+        for e in self.edges.values_mut() {
+            e.colour_stamp = 0;
+        }
+    }
+
     /// All live nodes in slot order. O(slots).
     pub fn nodes(&self) -> impl Iterator<Item = (NodeId, &Node)> + '_ {
         self.nodes

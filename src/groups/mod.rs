@@ -241,8 +241,22 @@ impl Groups {
             if let Some(g) = node.group.filter(|&g| self.get(g).is_none()) {
                 return Err(format!("node {n:?} points to dead group {g:?}"));
             }
+            // A stamp ahead of the traversal's would make a later traversal take the
+            // node as already visited.
+            if node.visit_stamp > self.stamp {
+                return Err(format!("node {n:?} has a traversal stamp from the future"));
+            }
+        }
+        if let Some((e, _)) = graph.edges().find(|(_, e)| e.colour_stamp > self.stamp) {
+            return Err(format!("edge {e:?} has a traversal stamp from the future"));
         }
         Ok(())
+    }
+
+    /// Sets the traversal stamp (tests of the wrap at the end of its range).
+    #[cfg(test)]
+    pub(crate) fn set_stamp(&mut self, stamp: u64) {
+        self.stamp = stamp;
     }
 
     /// Forgets the queued roots (groups switched off).
@@ -268,6 +282,14 @@ impl Groups {
         step: u64,
         insulates: &dyn Fn(&ContactGraph, NodeId) -> bool,
     ) {
+        // Stamps only grow, and a node or edge is "visited" when its stamp equals the
+        // traversal's. At the end of the range (reachable only from restored bytes)
+        // every stamp is cleared and the numbering starts again, so an old stamp can
+        // never equal a new one. O(1), or O(nodes + edges) at the wrap.
+        if self.stamp == u64::MAX {
+            graph.clear_stamps();
+            self.stamp = 0;
+        }
         self.stamp += 1;
         let stamp = self.stamp;
         let mut rebuilt = 0;

@@ -196,3 +196,68 @@ impl<'a> From<&'a mut ContactLayer> for crate::monitor::AnalysisView<'a> {
         (&*layer).analysis_view()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use rapier3d::prelude::*;
+
+    use super::ContactLayer;
+
+    /// A ground and a column of boxes that topples onto it: groups keep changing.
+    fn toppling_column() -> PhysicsWorld {
+        let mut world = PhysicsWorld::new();
+        world.insert(
+            RigidBodyBuilder::fixed(),
+            ColliderBuilder::cuboid(10.0, 0.5, 10.0),
+        );
+        for i in 0..4 {
+            world.insert(
+                RigidBodyBuilder::dynamic().translation(Vector::new(
+                    0.1 * i as f32,
+                    1.0 + 1.05 * i as f32,
+                    0.0,
+                )),
+                ColliderBuilder::cuboid(0.5, 0.5, 0.5),
+            );
+        }
+        world
+    }
+
+    #[test]
+    fn a_traversal_stamp_at_the_end_of_its_range_starts_again_with_the_same_groups() {
+        let (mut wrapped, mut plain) = (toppling_column(), toppling_column());
+        let (mut a, mut b) = (ContactLayer::new(), ContactLayer::new());
+        for _ in 0..5 {
+            a.step(&mut wrapped);
+            b.step(&mut plain);
+        }
+        // The traversal stamp one short of the end of its range.
+        a.groups.set_stamp(u64::MAX - 1);
+        for _ in 0..200 {
+            a.step(&mut wrapped);
+            b.step(&mut plain);
+            a.validate(&wrapped).unwrap();
+            let members = |l: &ContactLayer| {
+                let mut v: Vec<Vec<_>> = l.groups().iter().map(|(_, g)| g.bodies.clone()).collect();
+                v.sort();
+                v
+            };
+            assert_eq!(members(&a), members(&b));
+        }
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn a_restored_step_count_near_the_end_of_its_range_is_refused() {
+        let mut world = toppling_column();
+        let mut layer = ContactLayer::new();
+        layer.step(&mut world);
+        let mut snapshot = layer.snapshot(&world);
+        snapshot
+            .state_mut()
+            .coherence
+            .set_step_for_test(u64::MAX - 1);
+        let err = ContactLayer::restore(&snapshot, &world).unwrap_err();
+        assert!(err.to_string().contains("step count"), "{err}");
+    }
+}

@@ -114,7 +114,7 @@ impl Timers {
             // The shortest decimal that round-trips to `dt`: 0.01f32 → 0.01f64.
             self.dt = dt.to_string().parse::<f64>().unwrap_or(dt as f64);
         }
-        self.steps += 1;
+        self.steps = self.steps.saturating_add(1);
         self.time = self.base + self.steps as f64 * self.dt;
         let dt = self.dt;
         let slack = dt * 1e-3;
@@ -123,12 +123,21 @@ impl Timers {
             // The ticks due, computed at once (never by adding periods up), and at most
             // MAX_TICKS_PER_STEP of them reported per step: a step far longer than the
             // period reports the last ones and skips the rest (the count stays exact).
+            // A tick count past u64::MAX (a huge `dt`, or a restored count) stays at
+            // u64::MAX: the comparison is on the clamped count, so no tick is reported
+            // twice and nothing overflows.
             let due = ((elapsed + slack) / t.period).floor();
-            if !due.is_finite() || due <= t.ticks as f64 {
+            if !due.is_finite() {
                 continue;
             }
             let due = due.min(u64::MAX as f64) as u64;
-            let first = (t.ticks + 1).max(due.saturating_sub(MAX_TICKS_PER_STEP - 1));
+            if due <= t.ticks {
+                continue;
+            }
+            let first = t
+                .ticks
+                .saturating_add(1)
+                .max(due.saturating_sub(MAX_TICKS_PER_STEP - 1));
             for k in first..=due {
                 out.push((t.node, k));
             }
@@ -176,5 +185,27 @@ mod tests {
         assert_eq!(timers.ticks(n), Some(4));
         assert!(timers.remove(n));
         assert!(!timers.remove(n));
+    }
+
+    #[test]
+    fn a_huge_dt_saturates_the_tick_count_and_reports_no_tick_twice() {
+        for dt in [1e30f32, f32::MAX] {
+            let mut timers = Timers::default();
+            let n = NodeId::from_raw_parts(0, 0);
+            timers.add(n, 0.5);
+            let mut reported = Vec::new();
+            for _ in 0..5 {
+                let mut out = Vec::new();
+                timers.advance(dt, &mut out);
+                assert!(out.len() as u64 <= MAX_TICKS_PER_STEP, "{dt}");
+                reported.extend(out.into_iter().map(|(_, k)| k));
+            }
+            assert_eq!(timers.ticks(n), Some(u64::MAX), "{dt}");
+            let mut sorted = reported.clone();
+            sorted.dedup();
+            assert_eq!(sorted, reported, "{dt}: a tick was reported twice");
+            assert!(reported.windows(2).all(|w| w[0] < w[1]), "{dt}");
+            assert_eq!(reported.last(), Some(&u64::MAX), "{dt}");
+        }
     }
 }

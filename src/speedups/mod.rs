@@ -458,7 +458,7 @@ impl SpeedUpState {
                 let link = world.multibody_joints.rigid_body_link(held.handle);
                 if link.is_some_and(|l| l.id != 0) && !self.to_release.contains(&held.handle) {
                     self.to_release.push(held.handle);
-                    self.stats.releases += 1;
+                    self.stats.releases = self.stats.releases.saturating_add(1);
                 }
             }
         }
@@ -618,7 +618,7 @@ impl SpeedUpState {
                 self.sleepy_changed.push(h);
             }
             if sleepy {
-                self.stats.sleepy += 1;
+                self.stats.sleepy = self.stats.sleepy.saturating_add(1);
             }
         }
     }
@@ -708,7 +708,7 @@ impl SpeedUpState {
                     if let Some(mh) = graph.body_of(m) {
                         if self.is_fixated(mh) && !self.to_release.contains(&mh) {
                             self.to_release.push(mh);
-                            self.stats.releases += 1;
+                            self.stats.releases = self.stats.releases.saturating_add(1);
                         }
                     }
                 }
@@ -736,7 +736,7 @@ impl SpeedUpState {
                         Vec::new()
                     };
                     self.to_fix.push((h, supports));
-                    self.stats.fixations += 1;
+                    self.stats.fixations = self.stats.fixations.saturating_add(1);
                 }
             }
             // Everything again when something it depends on changed; otherwise only
@@ -989,7 +989,7 @@ impl SpeedUpState {
     pub(crate) fn repair_wake(&mut self, h: RigidBodyHandle, mods: &mut ContactMods) {
         if self.is_fixated(h) && !self.to_release.contains(&h) {
             self.to_release.push(h);
-            self.stats.releases += 1;
+            self.stats.releases = self.stats.releases.saturating_add(1);
         }
         self.to_fix.retain(|(f, _)| *f != h);
         let r = self.rest_mut(h);

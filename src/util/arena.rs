@@ -134,6 +134,11 @@ impl<T> Arena<T> {
             .enumerate()
             .filter_map(|(i, s)| s.value.as_ref().map(|v| (i as u32, s.generation, v)))
     }
+
+    /// Live values in slot order, mutably. O(slots).
+    pub fn values_mut(&mut self) -> impl Iterator<Item = &mut T> + '_ {
+        self.slots.iter_mut().filter_map(|s| s.value.as_mut())
+    }
 }
 
 #[cfg(test)]
