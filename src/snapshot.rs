@@ -162,7 +162,8 @@ use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 
 /// The snapshot format this build writes and reads. Bumped by any change of the
 /// layer's state that older builds could not read.
-pub const SNAPSHOT_FORMAT: u32 = 1;
+/// Format 2 leaves out the analysis' lookup caches (collider owners, pair slots).
+pub const SNAPSHOT_FORMAT: u32 = 2;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");
@@ -173,6 +174,9 @@ const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");
 #[derive(Debug, Clone)]
 pub struct LayerSnapshot {
     world: WorldStamp,
+    /// Whether the layer passed `validate` against the world when the snapshot was
+    /// taken (false when the world was edited after the layer's last step).
+    in_step: bool,
     state: LayerState,
 }
 
@@ -326,10 +330,11 @@ impl Clone for SavedBus {
 
 impl Serialize for LayerSnapshot {
     fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        let mut t = s.serialize_tuple_struct("LayerSnapshot", 4)?;
+        let mut t = s.serialize_tuple_struct("LayerSnapshot", 5)?;
         t.serialize_field(&SNAPSHOT_MAGIC)?;
         t.serialize_field(&SNAPSHOT_FORMAT)?;
         t.serialize_field(&self.world)?;
+        t.serialize_field(&self.in_step)?;
         t.serialize_field(&self.state)?;
         t.end()
     }
@@ -367,13 +372,20 @@ impl<'de> Deserialize<'de> for LayerSnapshot {
                 let world = seq
                     .next_element()?
                     .ok_or_else(|| de::Error::invalid_length(2, &self))?;
-                let state = seq
+                let in_step = seq
                     .next_element()?
                     .ok_or_else(|| de::Error::invalid_length(3, &self))?;
-                Ok(LayerSnapshot { world, state })
+                let state = seq
+                    .next_element()?
+                    .ok_or_else(|| de::Error::invalid_length(4, &self))?;
+                Ok(LayerSnapshot {
+                    world,
+                    in_step,
+                    state,
+                })
             }
         }
-        d.deserialize_tuple_struct("LayerSnapshot", 4, SnapshotVisitor)
+        d.deserialize_tuple_struct("LayerSnapshot", 5, SnapshotVisitor)
     }
 }
 
@@ -388,13 +400,17 @@ impl ContactLayer {
     /// Take it after a step ([`Self::step`], or [`Self::analyze`]); any other moment
     /// between two of the layer's calls works too. Cost: O(nodes + edges + groups +
     /// rules + timers + speed-up records) to copy the state, plus O(bodies + colliders
-    /// + joints) for the world's stamp.
+    /// + joints) for the world's stamp, plus one `validate` against the world (O(nodes
+    /// + edges + Rapier pairs)) whose verdict the snapshot keeps: a layer that was in
+    /// step with its world must be in step with it again when restored.
     ///
     /// # Example
     /// See [`crate::snapshot`].
     pub fn snapshot<'w>(&self, world: impl Into<WorldView<'w>>) -> LayerSnapshot {
+        let view = world.into();
         LayerSnapshot {
-            world: WorldStamp::of(&world.into()),
+            world: WorldStamp::of(&view),
+            in_step: self.validate_view(&view).is_ok(),
             state: self.to_state(),
         }
     }
@@ -486,7 +502,19 @@ impl ContactLayer {
         state
             .coherence
             .rebind_trigger_shapes(&state.graph, view.colliders);
-        Ok(ContactLayer::from_state(state))
+        let layer = ContactLayer::from_state(state);
+        // The state's own checks cannot see everything a corrupted snapshot can hold
+        // (a count off by a few, an edge or node dropped): a layer that was in step
+        // with its world when saved must pass `validate` against it again, or it is
+        // refused. (One saved between a world edit and the next step is behind the
+        // world on both sides, and catches up at its next step.) O(nodes + edges +
+        // pairs).
+        if snapshot.in_step {
+            layer
+                .validate_view(&view)
+                .map_err(|e| Error::Invariant(format!("snapshot does not match the world: {e}")))?;
+        }
+        Ok(layer)
     }
 }
 

@@ -112,9 +112,14 @@ pub struct Coherence {
     dead: Vec<EdgeId>,
     /// Collider slot → the node owning it (its parent body's, or its own), so that a
     /// collider pair costs two array reads instead of Rapier collider and body lookups.
-    owners: Vec<Owner>,
+    /// A cache: not saved in snapshots (a restored layer rebuilds it from the world on
+    /// first use instead of trusting it from bytes).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    owners: Cache<Vec<Owner>>,
     /// Rapier pair slot → the edge it fed at the last full scan (see `scan_all_pairs`).
-    pair_slots: Vec<PairSlot>,
+    /// A cache, not saved, like `owners`.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pair_slots: Cache<Vec<PairSlot>>,
     /// Maintain the per-edge contact details (see [`Coherence::set_contact_details`]).
     skip_details: bool,
     scan: ScanPolicy,
@@ -144,6 +149,31 @@ pub struct Coherence {
 /// pose, enabled flag and shape. A trigger carried by a body that is not refreshed (a
 /// fixed or passive carrier, or none) is read again when one of them changed; O(1) per
 /// trigger and step.
+/// A lookup cache: derived from the world, left out of snapshots and of `Debug` (a
+/// restored layer starts with it empty and refills it on first use, with the same
+/// results). Reads and writes go through `Deref`.
+#[derive(Clone, Default)]
+struct Cache<T>(T);
+
+impl<T> std::fmt::Debug for Cache<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Cache")
+    }
+}
+
+impl<T> std::ops::Deref for Cache<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<T> std::ops::DerefMut for Cache<T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.0
+    }
+}
+
 #[derive(Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct TriggerState {
