@@ -15,6 +15,7 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::{ContactLayer, Error, LayerSnapshot, Rule};
 
+use common::audit::xorshift;
 use common::build::*;
 
 /// A pile of balls on a ground, a rule, two timers, a sensor and a passive ball.
@@ -46,14 +47,6 @@ fn scene() -> (PhysicsWorld, ContactLayer) {
         layer.validate(&world).unwrap();
     }
     (world, layer)
-}
-
-/// A small deterministic generator for the corruption places.
-fn xorshift(state: &mut u64) -> u64 {
-    *state ^= *state << 13;
-    *state ^= *state >> 7;
-    *state ^= *state << 17;
-    *state
 }
 
 /// What became of one corrupted snapshot.

@@ -9,6 +9,7 @@ mod common;
 
 use std::sync::Arc;
 
+use common::audit::xorshift;
 use common::build::ball_at;
 use common::pose_bits;
 use crossbeam_channel::Receiver;
@@ -660,14 +661,6 @@ fn truncated_snapshots_are_errors_not_panics() {
             bytes.len()
         );
     }
-}
-
-/// A small deterministic generator for the corruption positions.
-fn xorshift(state: &mut u64) -> u64 {
-    *state ^= *state << 13;
-    *state ^= *state >> 7;
-    *state ^= *state << 17;
-    *state
 }
 
 #[test]

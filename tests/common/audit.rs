@@ -121,3 +121,11 @@ pub fn fingerprint(layer: &ContactLayer) -> (usize, usize, usize, usize) {
         layer.event_bus().len(),
     )
 }
+
+/// A small deterministic generator (xorshift64) for corruption places and values.
+pub fn xorshift(state: &mut u64) -> u64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    *state
+}
