@@ -105,7 +105,7 @@ pub struct MonitorConfig {
     /// absolute part the solver's slop in slow ones.
     ///
     /// Tuned with Rapier's default parameters on the quiet scenes of
-    /// `tests/monitor_detectors.rs`: the largest excess over tolerance seen was 0.35 in
+    /// `tests/monitor_detect_hanging.rs`: the largest excess over tolerance seen was 0.35 in
     /// a settling 300-sphere pile (columns of spheres landing on each other; 0.19 J/kg),
     /// 0.22 for the pendulum multibody, 0.12 for the DIKU scene, below 0.001 for bounces
     /// with restitution 0.8 and 1, colliding balls and the toppling stack. A launch by
