@@ -25,7 +25,14 @@
 //! - [`coherence`]: the STC analysis after each Rapier step (§3): node upkeep,
 //!   edge insertion, proximity and touching marks, obsolete removal;
 //! - [`groups`]: contact groups by the traversal of Figs. 7–8;
-//! - [`export`]: Graphviz pictures of the graph (Figs. 2 and 9);
+//! - [`logic`]: rules, timers, passive bodies, containers (Table 1, §3.2), and the
+//!   one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);
+//! - [`events`]: event kinds, filters and crossbeam subscriptions (§4, Table 3);
+//! - [`speedups`]: the §7 switches and how each is realised in Rapier;
+//! - [`monitor`]: plausibility violations and their repair (§8, Figs. 15 and 17);
+//! - [`export`]: text, and Graphviz pictures of the graph (Figs. 2 and 9);
+//! - `debug_render` (feature `debug-render`, on by default): the graph drawn into any
+//!   Rapier `DebugRenderBackend` ([`GraphOverlay`]);
 //! - [`snapshot`] (feature `serde`, on by default): the layer's state saved and
 //!   restored beside Rapier's own world snapshot, continuing bit for bit;
 //! - [`ContactLayer`] ties them together.
