@@ -54,12 +54,15 @@ use rcg_scenes as scenes;
 
 // ── Pinned hashes (x86_64, rustc 1.95.0, rapier3d 0.36.1) ──────────────
 // History: first pinned at 3c2af2b; `GOLDEN_ALL_EVENTS` re-pinned at 54ad0e4 after
-// 12f5045 made sleep events alternate (a fixation and its release report nothing).
+// 12f5045 made sleep events alternate (a fixation and its release report nothing);
+// all three `GOLDEN_ALL_*` re-pinned when held bodies were taken out of Rapier's active
+// set (parked: disabled for one step, which reorders Rapier's pairs) and fixation and
+// release began to report `FellAsleep` / `WokeUp`.
 
 /// Every speed-up on: pose checkpoints, final pose, event stream.
-const GOLDEN_ALL_POSES: u64 = 0x3a9d_cd08_5602_596b;
-const GOLDEN_ALL_FINAL: u64 = 0xceaf_4a1a_3b5b_0f8b;
-const GOLDEN_ALL_EVENTS: u64 = 0xbca2_75ae_fa41_19fc;
+const GOLDEN_ALL_POSES: u64 = 0xcfae_3e36_525f_c245;
+const GOLDEN_ALL_FINAL: u64 = 0x087c_f639_f668_2127;
+const GOLDEN_ALL_EVENTS: u64 = 0x7f5e_21bd_43d4_88ac;
 /// `SpeedUps::none()`.
 const GOLDEN_NONE_POSES: u64 = 0x91b4_8c73_eeb0_02d0;
 const GOLDEN_NONE_FINAL: u64 = 0xea52_db4c_bfc2_35f8;

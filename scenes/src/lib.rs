@@ -26,6 +26,7 @@
 use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 
 pub mod ball_on_box;
+pub mod box_pile;
 pub mod diku;
 mod jitter;
 pub mod kinematic_platform;
@@ -38,6 +39,7 @@ pub mod trigger_ledge;
 pub mod two_piles;
 
 pub use ball_on_box::ball_on_box;
+pub use box_pile::box_pile;
 pub use diku::{diku, DikuParams};
 pub use kinematic_platform::kinematic_platform;
 pub use pendulum::pendulum_wall;

@@ -68,7 +68,7 @@ pub use pairs::WalkCounters;
 
 use std::collections::BTreeMap;
 
-use rapier3d::prelude::ColliderHandle;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, Edge, EdgeId, NodeId, NodeKind, NodeSource};
 use crate::WorldView;
@@ -143,6 +143,15 @@ pub struct Coherence {
     /// Triggers to read this step besides those of refreshed bodies and new ones
     /// (rule members, a requested full sync).
     pending_triggers: Vec<NodeId>,
+    /// Held bodies the speed-ups disabled for this one step to take them out of
+    /// Rapier's active set: not passive, whatever Rapier's enabled flag says. Set
+    /// before each update; sorted.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    parking: Vec<RigidBodyHandle>,
+    /// Bodies in Rapier's active set that Rapier integrates (not fixed) at the last
+    /// update.
+    #[cfg_attr(feature = "serde", serde(default))]
+    integrated: usize,
 }
 
 /// What a trigger's read depends on besides the bodies it meets: its sensor collider's

@@ -12,6 +12,13 @@ impl Coherence {
         self.step = step;
     }
 
+    /// Bodies that Rapier integrated in the last step: its active set without the fixed
+    /// bodies it keeps there (a body turned fixed stays in Rapier's active set until it
+    /// is disabled or removed). O(1).
+    pub fn integrated_bodies(&self) -> usize {
+        self.integrated
+    }
+
     /// The index of the last analysed step (0 before the first).
     pub fn step(&self) -> u64 {
         self.step

@@ -155,10 +155,15 @@ impl Coherence {
         }
         self.verify_some(graph, groups, view);
         self.walk.clear();
+        self.integrated = 0;
         for h in view.islands.active_bodies() {
+            let fixed = view.bodies.get(h).is_some_and(|b| b.is_fixed());
+            if !fixed {
+                self.integrated += 1;
+            }
             // Rapier keeps a body turned fixed in its active set: once the graph has it
             // as fixed, there is nothing to refresh (it does not move).
-            if view.bodies.get(h).is_some_and(|b| b.is_fixed())
+            if fixed
                 && graph
                     .node_of_body(h)
                     .and_then(|n| graph.node(n))
@@ -219,7 +224,8 @@ impl Coherence {
             + graph.count_of_kind(NodeKind::Link)
             + graph.count_of_kind(NodeKind::Scripted);
         let scan = match self.scan {
-            ScanPolicy::Auto => 2 * walk.len() >= moving,
+            // Nothing refreshed (everything asleep or held): nothing to scan.
+            ScanPolicy::Auto => !walk.is_empty() && 2 * walk.len() >= moving,
             ScanPolicy::Scan => true,
             ScanPolicy::Walk => false,
         };
@@ -406,7 +412,11 @@ impl Coherence {
             n.seen_step = step;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
             n.non_finite = !finite;
-            n.passive = !enabled;
+            n.passive = !enabled
+                && self
+                    .parking
+                    .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
+                    .is_err();
             if was_passive != n.passive {
                 self.passive_changed.push(id);
             }
@@ -426,6 +436,41 @@ impl Coherence {
             }
             self.walk.push(id);
         }
+    }
+
+    /// Reports the speed-ups' fixations (`false`) and releases (`true`) applied before
+    /// this step as sleep and wake of the body: a held body is out of the simulation
+    /// like a sleeping one. A release is reported by the refresh that sees the body
+    /// dynamic again (its last reported state is "asleep"), so only fixations are
+    /// pushed here. O(changes).
+    pub(crate) fn note_hold_changes(
+        &mut self,
+        graph: &mut ContactGraph,
+        changes: &[(RigidBodyHandle, bool)],
+    ) {
+        for &(h, released) in changes {
+            let Some(id) = graph.node_of_body(h) else {
+                continue;
+            };
+            let Some(n) = graph.node_mut(id) else {
+                continue;
+            };
+            if released || n.passive {
+                continue;
+            }
+            if n.reported_awake == Some(true) {
+                n.reported_awake = Some(false);
+                self.sleep_changes.push((id, false));
+            }
+        }
+    }
+
+    /// Sets the held bodies that are disabled for this step on their way out of
+    /// Rapier's active set. O(n log n).
+    pub(crate) fn set_parking(&mut self, parking: impl Iterator<Item = RigidBodyHandle>) {
+        self.parking.clear();
+        self.parking.extend(parking);
+        self.parking.sort_unstable_by_key(|h| h.into_raw_parts());
     }
 
     /// The node owning a collider, from the owner table (slow path: Rapier lookups,

@@ -33,7 +33,8 @@ pub struct StepStats {
     pub nodes: usize,
     /// Live edges.
     pub edges: usize,
-    /// Bodies awake after the step.
+    /// Bodies Rapier integrated in the step: its active set without the fixed bodies
+    /// it keeps there (held bodies not yet out of it, see [`crate::speedups`]).
     pub awake_bodies: usize,
     /// What the pair walk read.
     pub walk: WalkCounters,

@@ -66,7 +66,10 @@ impl ContactLayer {
             }
         }
         if let Some(s) = &mut self.speedups {
-            s.pre_step(&mut world, &mut self.logic.hooks.mods);
+            let passive = &self.logic.passive;
+            s.pre_step(&mut world, &mut self.logic.hooks.mods, &|h| {
+                passive.contains_key(&h.into_raw_parts())
+            });
         }
     }
 
@@ -80,8 +83,16 @@ impl ContactLayer {
             rules: self.logic.hooks.table(),
             force: &force,
         };
+        match &self.speedups {
+            Some(s) => self.coherence.set_parking(s.parking()),
+            None => self.coherence.set_parking(std::iter::empty()),
+        }
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen);
+        if let Some(s) = &mut self.speedups {
+            let changes = std::mem::take(&mut s.hold_changes);
+            self.coherence.note_hold_changes(&mut self.graph, &changes);
+        }
         let step = self.coherence.step();
         for r in self.coherence.removed_nodes() {
             if let NodeSource::Body(h) = r.source {
@@ -237,7 +248,7 @@ impl ContactLayer {
             step,
             nodes: self.graph.node_count(),
             edges: self.graph.edge_count(),
-            awake_bodies: view.islands.num_active_bodies(),
+            awake_bodies: self.coherence.integrated_bodies(),
             walk: self.coherence.counters(),
             groups: self.groups.stats(),
             events: self.events.len(),

@@ -136,7 +136,7 @@ pub(crate) struct Logic {
     /// Passive changes to apply in the pre-step.
     passive_queue: Vec<(RigidBodyHandle, bool)>,
     /// The bodies the layer holds passive (disabled in Rapier), by raw handle.
-    passive: BTreeMap<(u32, u32), RigidBodyHandle>,
+    pub(crate) passive: BTreeMap<(u32, u32), RigidBodyHandle>,
     /// What the last pre-step refused or undid (see [`Logic::pre_step`]). A report of
     /// one pre-step, not state: not part of a snapshot.
     #[cfg_attr(feature = "serde", serde(skip))]

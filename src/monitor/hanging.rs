@@ -147,7 +147,7 @@ impl Hanging {
         let is_held = |h: RigidBodyHandle| {
             view.bodies
                 .get(h)
-                .is_some_and(|rb| rb.is_enabled() && (rb.is_sleeping() || held(h)))
+                .is_some_and(|rb| (rb.is_enabled() && rb.is_sleeping()) || held(h))
         };
         let near = &mut self.near;
         let mut add = |n: NodeId| {
@@ -227,7 +227,9 @@ impl Hanging {
         let simulated = graph.node(n).is_some_and(|node| node.kind().is_simulated());
         // A simulated body is held when asleep or held by the caller; a body the
         // caller turned fixed (the speed-ups' fixation) when the caller holds it.
-        let is_held = rb.is_enabled()
+        // (A held body the speed-ups disabled for one step to take it out of Rapier's
+        // active set is still held.)
+        let is_held = (rb.is_enabled() || held(h))
             && if simulated {
                 rb.is_sleeping() || held(h)
             } else {

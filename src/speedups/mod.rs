@@ -36,6 +36,24 @@
 //!   the user joined to a multibody as a link meanwhile (O(held bodies), only while
 //!   the world has a multibody).
 //!
+//! # Held bodies
+//! A fixated body costs nothing while held. Rapier keeps a body turned fixed in its
+//! active set (its island manager returns early for fixed bodies, and fixed bodies
+//! belong to no island that could sleep), where a settled pile of 500 held boxes
+//! costs about 70 times what stock Rapier's sleeping pile costs
+//! (`docs/rapier-notes.md`). So a held body is *parked*: once none of its collider
+//! pairs has a partner that is not fixed, and none touches or intersects anything,
+//! it is disabled for one step (Rapier takes a disabled body out of its active set)
+//! and enabled again at the next pre-step (Rapier does not put an enabled fixed body
+//! back). Its pose is untouched (a disabled body does not move), no contact or
+//! intersection of it starts or stops (it had none, and only fixed partners, whose
+//! pairs with a fixed body Rapier does not compute), and nothing else wakes. A body
+//! with joints is never parked (disabling it disables its joints). Its release is
+//! the same as before: type and velocities restored exactly; Rapier puts it back
+//! into its active set. A held body is reported as `FellAsleep` when fixated and
+//! `WokeUp` when released, and [`crate::StepStats::awake_bodies`] counts only what
+//! Rapier integrates.
+//!
 //! Rejected for fixation: locked axes with zeroed velocity (`docs/rapier-notes.md`: holds a body
 //! bit-identically and keeps its contacts). It keeps the body in the solver, so it
 //! saves nothing, which is the point of the switch.
@@ -69,6 +87,26 @@ struct Held {
     /// What supported it against gravity when it was fixated (see
     /// [`SpeedUpState::fixation_supported`]).
     supports: Vec<Supporter>,
+    /// Where it is on the way out of Rapier's active set (see "Held bodies" above).
+    #[cfg_attr(feature = "serde", serde(default))]
+    park: Park,
+}
+
+/// A held body's way out of Rapier's active set. Rapier keeps a body turned fixed in
+/// its active set (its island manager returns early for fixed bodies), where it costs
+/// about 70 times what a sleeping body costs; disabling a body is the one public way
+/// to take it out, and re-enabling a fixed body does not put it back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+enum Park {
+    /// Fixed, still in Rapier's active set.
+    #[default]
+    Active,
+    /// Disabled for this one step: Rapier takes it out of its active set.
+    Parking,
+    /// Enabled again, fixed, out of Rapier's active set: it costs what a sleeping
+    /// body costs.
+    Parked,
 }
 
 /// One thing that held a body against gravity when it was fixated.
@@ -137,6 +175,9 @@ pub struct SpeedUpStats {
     pub sleepy: usize,
     /// Bodies held by fixation.
     pub fixated: usize,
+    /// Held bodies out of Rapier's active set (parked): they cost what a sleeping body
+    /// costs. The others are fixed bodies Rapier still keeps in its active set.
+    pub parked: usize,
     /// Fixations this step.
     pub fixations: usize,
     /// Releases this step.
@@ -157,6 +198,22 @@ pub struct SpeedUpState {
     /// Fixations and releases to apply in the pre-step.
     to_fix: Vec<(RigidBodyHandle, Vec<Supporter>)>,
     to_release: Vec<RigidBodyHandle>,
+    /// Held bodies to take out of Rapier's active set in the pre-step (see "Held
+    /// bodies").
+    #[cfg_attr(feature = "serde", serde(default))]
+    to_park: Vec<RigidBodyHandle>,
+    /// Held bodies still in Rapier's active set (`Park::Active`), the candidates for
+    /// parking: the choice costs O(these), not O(held).
+    #[cfg_attr(feature = "serde", serde(default))]
+    unparked: std::collections::BTreeSet<(u32, u32)>,
+    /// Held bodies disabled for this step on their way out of the active set
+    /// (`Park::Parking`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    parking_now: Vec<RigidBodyHandle>,
+    /// Fixations (`false`) and releases (`true`) applied by the last pre-step, in
+    /// order: the analysis reports them as sleep and wake.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) hold_changes: Vec<(RigidBodyHandle, bool)>,
     held: BTreeMap<(u32, u32), Held>,
     /// Held bodies whose remembered support is gone (evaluated after each decision).
     unsupported: std::collections::BTreeSet<(u32, u32)>,
@@ -213,6 +270,10 @@ impl SpeedUpState {
             eligibility: Vec::new(),
             to_fix: Vec::new(),
             to_release: Vec::new(),
+            to_park: Vec::new(),
+            unparked: Default::default(),
+            parking_now: Vec::new(),
+            hold_changes: Vec::new(),
             held: BTreeMap::new(),
             unsupported: Default::default(),
             support_dirty: true,
@@ -252,9 +313,17 @@ impl SpeedUpState {
     }
 
     /// Undoes everything the speed-ups changed in the world.
-    fn restore(&mut self, world: &mut WorldMut, mods: &mut ContactMods) {
+    fn restore(
+        &mut self,
+        world: &mut WorldMut,
+        mods: &mut ContactMods,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) {
         for (_, held) in std::mem::take(&mut self.held) {
             if let Some(rb) = world.bodies.get_mut(held.handle) {
+                if held.park == Park::Parking && !user_passive(held.handle) {
+                    rb.set_enabled(true);
+                }
                 rb.set_body_type(RigidBodyType::Dynamic, true);
                 rb.set_linvel(held.linvel, true);
                 rb.set_angvel(held.angvel, true);
@@ -291,6 +360,9 @@ impl SpeedUpState {
         self.eligibility.clear();
         self.to_fix.clear();
         self.to_release.clear();
+        self.to_park.clear();
+        self.unparked.clear();
+        self.parking_now.clear();
         self.unsupported.clear();
         self.zero_flags.clear();
         self.restored = true;
@@ -345,10 +417,18 @@ impl SpeedUpState {
     /// Applies the configuration and the queued changes to the world, before
     /// Rapier's step. O(changes), plus O(bodies + colliders) when the configuration or
     /// the body count changed.
-    pub(crate) fn pre_step(&mut self, world: &mut WorldMut, mods: &mut ContactMods) {
+    /// `user_passive` tells the bodies the user made passive through the layer: a held
+    /// body on its way out of Rapier's active set is not enabled again behind their
+    /// back.
+    pub(crate) fn pre_step(
+        &mut self,
+        world: &mut WorldMut,
+        mods: &mut ContactMods,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) {
         if self.detached {
             if !self.restored {
-                self.restore(world, mods);
+                self.restore(world, mods, user_passive);
             }
             return;
         }
@@ -462,10 +542,16 @@ impl SpeedUpState {
                 }
             }
         }
+        self.hold_changes.clear();
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.held.remove(&key(h)) {
                 self.support_dirty = true;
+                self.hold_changes.push((h, true));
+                self.unparked.remove(&key(h));
                 if let Some(rb) = world.bodies.get_mut(h) {
+                    if held.park == Park::Parking && !user_passive(h) {
+                        rb.set_enabled(true);
+                    }
                     rb.set_body_type(RigidBodyType::Dynamic, true);
                     rb.set_linvel(held.linvel, true);
                     rb.set_angvel(held.angvel, true);
@@ -497,12 +583,24 @@ impl SpeedUpState {
                 linvel: rb.linvel(),
                 angvel: rb.angvel(),
                 supports,
+                park: Park::Active,
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
             self.held.insert(key(h), held);
+            self.unparked.insert(key(h));
             self.newly_held.push(key(h));
+            self.hold_changes.push((h, false));
         }
-        // Bodies removed while held are forgotten.
+        self.park(world, user_passive);
+        // Bodies removed while held are forgotten: looked for when the body count
+        // changed (O(held)); a body removed and another inserted between two steps
+        // leaves a stale entry until the count changes, which is harmless (handles
+        // carry their generation, and every use of a held handle checks it exists).
+        self.stats.parked = self.held.len().saturating_sub(self.unparked.len());
+        if !counts_changed {
+            self.stats.fixated = self.held.len();
+            return;
+        }
         let gone: Vec<(u32, u32)> = self
             .held
             .iter()
@@ -511,9 +609,116 @@ impl SpeedUpState {
             .collect();
         for k in gone {
             self.held.remove(&k);
+            self.unparked.remove(&k);
             self.support_dirty = true;
         }
         self.stats.fixated = self.held.len();
+    }
+
+    /// Moves held bodies on their way out of Rapier's active set: those disabled at
+    /// the last pre-step are enabled again (now parked), and the candidates chosen at
+    /// the last analysis are disabled for one step, after checking them again against
+    /// the world as it is now (the user may have changed them since). O(parking
+    /// bodies + candidates' pairs).
+    fn park(&mut self, world: &mut WorldMut, user_passive: &dyn Fn(RigidBodyHandle) -> bool) {
+        for h in std::mem::take(&mut self.parking_now) {
+            let Some(held) = self.held.get_mut(&key(h)) else {
+                continue;
+            };
+            if held.park == Park::Parking {
+                held.park = Park::Parked;
+                match world.bodies.get_mut(h) {
+                    Some(rb) if !user_passive(h) => rb.set_enabled(true),
+                    _ => {}
+                }
+            }
+        }
+        for h in std::mem::take(&mut self.to_park) {
+            let Some(held) = self.held.get_mut(&key(h)) else {
+                continue;
+            };
+            let parkable = held.park == Park::Active
+                && world
+                    .bodies
+                    .get(h)
+                    .is_some_and(|rb| rb.is_fixed() && rb.is_enabled())
+                && world.impulse_joints.attached_joints(h).next().is_none()
+                && world.multibody_joints.rigid_body_link(h).is_none();
+            if parkable {
+                held.park = Park::Parking;
+                self.unparked.remove(&key(h));
+                self.parking_now.push(h);
+                if let Some(rb) = world.bodies.get_mut(h) {
+                    rb.set_enabled(false);
+                }
+            }
+        }
+    }
+
+    /// Chooses the held bodies to park at the next pre-step: in Rapier's active set,
+    /// without joints, and whose every collider pair has a fixed partner and neither
+    /// touches nor intersects (so that disabling the body for a step changes no
+    /// contact, no event and no neighbour). O(active held bodies × their pairs).
+    fn choose_parking(&mut self, graph: &ContactGraph, view: &WorldView) {
+        self.to_park.clear();
+        for k in &self.unparked {
+            let Some(held) = self.held.get(k) else {
+                continue;
+            };
+            if held.park != Park::Active || self.to_release.contains(&held.handle) {
+                continue;
+            }
+            let h = held.handle;
+            let Some(rb) = view.bodies.get(h) else {
+                continue;
+            };
+            // Held bodies are fixated awake, so an `Active` one is in Rapier's active set.
+            if !rb.is_fixed() || !rb.is_enabled() {
+                continue;
+            }
+            if view.impulse_joints.attached_joints(h).next().is_some()
+                || view.multibody_joints.rigid_body_link(h).is_some()
+            {
+                continue;
+            }
+            let fixed_partner = |c: ColliderHandle| {
+                view.colliders.get(c).is_some_and(|co| {
+                    co.parent()
+                        .is_none_or(|p| view.bodies.get(p).is_some_and(|b| b.is_fixed()))
+                })
+            };
+            let quiet = rb.colliders().iter().all(|&c| {
+                view.narrow_phase.contact_pairs_with(c).all(|p| {
+                    let other = crate::coherence::pairs::other_collider(p, c);
+                    !p.has_any_active_contact() && fixed_partner(other)
+                }) && view
+                    .narrow_phase
+                    .intersection_pairs_with(c)
+                    .next()
+                    .is_none()
+            });
+            // The graph agrees: no edge of the body is touching.
+            let untouched = graph
+                .node_of_body(h)
+                .is_some_and(|n| graph.neighbors(n).all(|(_, _, e)| !e.is_touching()));
+            if quiet && untouched && std::env::var_os("NOPARK").is_none() {
+                self.to_park.push(h);
+            }
+        }
+    }
+
+    /// Whether a held body is out of Rapier's active set or on its way (disabled for
+    /// this step by the layer, not by the user). O(log held).
+    pub fn is_parked(&self, h: RigidBodyHandle) -> bool {
+        self.held
+            .get(&key(h))
+            .is_some_and(|held| held.park != Park::Active)
+    }
+
+    /// The held bodies the layer disabled for this step to take them out of Rapier's
+    /// active set (they are enabled again at the next pre-step). O(1) per item.
+    pub fn parking(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.parking_now.iter().copied()
     }
 
     fn set_modify_flags(&mut self, world: &mut WorldMut, want: &[ColliderHandle]) {
@@ -747,6 +952,7 @@ impl SpeedUpState {
                 self.evaluate_support(graph, view, up);
             }
             self.newly_held.clear();
+            self.choose_parking(graph, view);
         }
     }
 

@@ -23,13 +23,19 @@ pub const LEVELS: usize = 10;
 /// Builds the scene. Bodies: `"ground"`, `"apex"`; the others are unnamed (row by row
 /// from the bottom, left to right).
 pub fn pyramid() -> Scene {
+    pyramid_of(LEVELS)
+}
+
+/// The same pyramid with `levels` rows (`levels * (levels + 1) / 2` boxes), for the
+/// benchmarks: stock Rapier puts a pyramid of 40 rows to sleep too.
+pub fn pyramid_of(levels: usize) -> Scene {
     let mut world = new_world();
-    let g = ground(&mut world, 10.0);
+    let g = ground(&mut world, 10.0_f32.max(levels as Real * 0.3));
     let gap = 0.001;
     let step = 2.0 * BOX_HALF + gap;
     let mut apex = None;
-    for row in 0..LEVELS {
-        let n = LEVELS - row;
+    for row in 0..levels {
+        let n = levels - row;
         let x0 = -(n as Real - 1.0) * step / 2.0;
         for i in 0..n {
             let (h, _) = world.insert(

@@ -118,7 +118,14 @@ impl Harness {
 
         // 5. Awake and passive flags against Rapier.
         let active: HashSet<RigidBodyHandle> = world.islands.active_bodies().collect();
+        // Held bodies the speed-ups disabled for this one step to take them out of
+        // Rapier's active set are not passive.
+        let parking: HashSet<RigidBodyHandle> = layer
+            .speedups()
+            .map(|s| s.parking().collect())
+            .unwrap_or_default();
         for (h, rb) in world.bodies.iter() {
+            let enabled = rb.is_enabled() || parking.contains(&h);
             let n = layer
                 .node_of_body(h)
                 .map_err(|e| format!("body {h:?} has no node: {e}"))?;
@@ -132,15 +139,16 @@ impl Harness {
                     active.contains(&h)
                 ));
             }
-            if node.is_passive() == rb.is_enabled() {
+            if node.is_passive() == enabled {
                 return Err(format!(
-                    "node {n:?} of body {h:?} passive = {}, Rapier enabled = {}",
+                    "node {n:?} of body {h:?} passive = {}, Rapier enabled = {} (parking: {})",
                     node.is_passive(),
-                    rb.is_enabled()
+                    rb.is_enabled(),
+                    parking.contains(&h)
                 ));
             }
             if let Some((_, asked)) = self.passive.get(&raw(h)) {
-                if *asked == rb.is_enabled() && !self.quarantined.contains(&raw(h)) {
+                if *asked == enabled && !self.quarantined.contains(&raw(h)) {
                     return Err(format!(
                         "body {h:?}: set_passive({asked}) asked, Rapier enabled = {}",
                         rb.is_enabled()

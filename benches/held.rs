@@ -1,0 +1,232 @@
+//! What held bodies cost (the `speedups` module docs, "Held bodies"): the speed-ups'
+//! sleep + subgroup + fixate (with warm start, and optionally the repair monitor)
+//! against stock Rapier on the same piles, stepped in lockstep.
+//!
+//! For each scene two identical worlds are built and stepped alternately (stock first
+//! on even steps, the layer first on odd ones), each step timed in thread CPU time:
+//! - *stock*: `world.step()`, Rapier's own sleep;
+//! - *held*: `ContactLayer::step` with `SpeedUps { cache, subgroup, fixate,
+//!   ..contact_graph() }` (the paper's sleepy objects, subgroups and fixation).
+//!
+//! Reported per scene, as ratios within the run (absolute times for orientation only):
+//! the whole run, the settled phase (the last `--tail` steps) per step, and for each
+//! world the first step from which 95% of the dynamic bodies stay held or asleep.
+//!
+//! Scenes: `boxes` (500 boxes in stacks: stock Rapier sleeps them), `pyramid` (a
+//! 40-row pyramid, 820 boxes: stock sleeps it too) and `spheres` (the 1,000-sphere
+//! pile in a bin, which stock Rapier leaves partly awake).
+//!
+//! ```text
+//! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
+//! cargo bench --bench held -- --scene boxes --repeats 5
+//! cargo bench --bench held -- --monitor           # with the repair monitor
+//! ```
+
+use clap::Parser;
+use cpu_time::ThreadTime;
+use rapier3d::prelude::PhysicsWorld;
+use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+use rapier_contact_graph::speedups::SpeedUps;
+use rapier_contact_graph::ContactLayer;
+use rcg_scenes as scenes;
+
+#[derive(Parser)]
+#[command(about = "Held bodies against stock Rapier's sleeping bodies")]
+struct Args {
+    /// Scenes to run (boxes, pyramid, spheres); all when omitted.
+    #[arg(long = "scene")]
+    scenes: Vec<String>,
+    /// Steps per run (dt = 0.01 s).
+    #[arg(long, default_value_t = 1000)]
+    steps: usize,
+    /// Steps at the end counted as the settled phase.
+    #[arg(long, default_value_t = 200)]
+    tail: usize,
+    /// Runs per scene (min / median / max are printed).
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Add the repair monitor to the held world.
+    #[arg(long)]
+    monitor: bool,
+    /// cargo passes `--bench` to benches without the default harness.
+    #[arg(long, hide = true)]
+    bench: bool,
+}
+
+fn build(scene: &str) -> Option<PhysicsWorld> {
+    Some(match scene {
+        "boxes" => scenes::box_pile(500, 1).world,
+        "pyramid" => scenes::stability::pyramid::pyramid_of(40).world,
+        "spheres" => scenes::sphere_pile(1000, 1).world,
+        _ => return None,
+    })
+}
+
+fn config() -> SpeedUps {
+    SpeedUps {
+        cache: true,
+        subgroup: true,
+        fixate: true,
+        ..SpeedUps::contact_graph()
+    }
+}
+
+/// Dynamic bodies (fixated ones included) at the start: the scenes have no other
+/// moving bodies and none is added or removed.
+fn dynamic_bodies(world: &PhysicsWorld) -> usize {
+    world
+        .bodies
+        .iter()
+        .filter(|(_, rb)| rb.is_dynamic())
+        .count()
+}
+
+struct Run {
+    stock: Vec<f64>,
+    held: Vec<f64>,
+    /// First step from which 95% of the bodies stayed still, per world.
+    still_from: [Option<usize>; 2],
+    awake_end: [usize; 2],
+    fixated_end: usize,
+    parked_end: usize,
+    violations: usize,
+}
+
+fn run(scene: &str, args: &Args) -> Run {
+    let mut stock = build(scene).expect("scene");
+    let mut held = build(scene).expect("scene");
+    let n = dynamic_bodies(&stock);
+    let mut layer = ContactLayer::new();
+    layer.set_speedups(Some(config())).expect("valid speed-ups");
+    if args.monitor {
+        layer
+            .set_monitor(
+                MonitorMode::Repair,
+                MonitorConfig::default(),
+                RepairConfig::default(),
+            )
+            .expect("valid monitor");
+    }
+    let mut r = Run {
+        stock: Vec::with_capacity(args.steps),
+        held: Vec::with_capacity(args.steps),
+        still_from: [None; 2],
+        awake_end: [0; 2],
+        fixated_end: 0,
+        parked_end: 0,
+        violations: 0,
+    };
+    let step_stock = |w: &mut PhysicsWorld| {
+        let t = ThreadTime::now();
+        w.step();
+        t.elapsed().as_secs_f64()
+    };
+    for i in 0..args.steps {
+        let step_held = |w: &mut PhysicsWorld, l: &mut ContactLayer| {
+            let t = ThreadTime::now();
+            let s = l.step(w);
+            (t.elapsed().as_secs_f64(), s.violations)
+        };
+        let (ts, (th, v)) = if i % 2 == 0 {
+            let ts = step_stock(&mut stock);
+            (ts, step_held(&mut held, &mut layer))
+        } else {
+            let th = step_held(&mut held, &mut layer);
+            (step_stock(&mut stock), th)
+        };
+        r.stock.push(ts);
+        r.held.push(th);
+        r.violations += v;
+        // Still: not integrated by Rapier (asleep, or held by the layer).
+        let awake = [
+            stock.islands.num_active_bodies(),
+            layer.stats().awake_bodies,
+        ];
+        for (k, awake) in awake.into_iter().enumerate() {
+            if 20 * n.saturating_sub(awake) >= 19 * n {
+                r.still_from[k].get_or_insert(i);
+            } else {
+                r.still_from[k] = None;
+            }
+        }
+    }
+    r.awake_end = [
+        stock.islands.num_active_bodies(),
+        layer.stats().awake_bodies,
+    ];
+    r.fixated_end = layer.speedups().map_or(0, |s| s.fixated().count());
+    r.parked_end = layer.speedups().map_or(0, |s| s.stats().parked);
+    r
+}
+
+fn sum(v: &[f64]) -> f64 {
+    v.iter().sum()
+}
+
+fn spread(mut v: Vec<f64>) -> String {
+    v.sort_by(f64::total_cmp);
+    let m = v[v.len() / 2];
+    format!("{:.3} / {:.3} / {:.3}", v[0], m, v[v.len() - 1])
+}
+
+fn main() {
+    let args = Args::parse();
+    let chosen: Vec<String> = if args.scenes.is_empty() {
+        ["boxes", "pyramid", "spheres"].map(String::from).to_vec()
+    } else {
+        args.scenes.clone()
+    };
+    assert!(args.repeats > 0, "--repeats must be positive");
+    assert!(
+        args.tail > 0 && args.tail <= args.steps,
+        "--tail must be in 1..=steps"
+    );
+    println!(
+        "held: sleep + subgroup + fixate + warm start{} vs stock Rapier, {} steps, settled = last {}, thread CPU time, {} repeats",
+        if args.monitor { " + repair monitor" } else { "" },
+        args.steps,
+        args.tail,
+        args.repeats
+    );
+    for scene in &chosen {
+        if build(scene).is_none() {
+            eprintln!("held: unknown scene {scene:?} (boxes, pyramid, spheres)");
+            std::process::exit(2);
+        }
+        let runs: Vec<Run> = (0..args.repeats).map(|_| run(scene, &args)).collect();
+        let whole: Vec<f64> = runs.iter().map(|r| sum(&r.held) / sum(&r.stock)).collect();
+        let tail = |v: &[f64]| sum(&v[v.len() - args.tail..]) / args.tail as f64;
+        let settled: Vec<f64> = runs
+            .iter()
+            .map(|r| tail(&r.held) / tail(&r.stock))
+            .collect();
+        let r = &runs[0];
+        let us = |v: Vec<f64>| spread(v.into_iter().map(|x| x * 1e6).collect());
+        println!("\n{scene}:");
+        println!(
+            "  whole run   held/stock  {}   (stock {:.3} s, held {:.3} s, first run)",
+            spread(whole),
+            sum(&r.stock),
+            sum(&r.held)
+        );
+        println!("  settled     held/stock  {}", spread(settled));
+        println!(
+            "  settled µs/step         stock {}   held {}",
+            us(runs.iter().map(|r| tail(&r.stock)).collect()),
+            us(runs.iter().map(|r| tail(&r.held)).collect())
+        );
+        let when = |s: Option<usize>| match s {
+            Some(i) => format!("{:.2} s", i as f64 * scenes::DT as f64),
+            None => "never".into(),
+        };
+        println!(
+            "  95% still from          stock {}   held {}",
+            when(r.still_from[0]),
+            when(r.still_from[1])
+        );
+        println!(
+            "  at the end              stock {} awake   held {} awake, {} fixated ({} parked), {} violations",
+            r.awake_end[0], r.awake_end[1], r.fixated_end, r.parked_end, r.violations
+        );
+    }
+}

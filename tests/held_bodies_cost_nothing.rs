@@ -1,0 +1,188 @@
+//! Held (fixated) bodies leave Rapier's active set: a settled pile under fixation is
+//! as quiet in Rapier as a sleeping one, holds its pose bit for bit, reports fixation
+//! and release as sleep and wake, and is restored exactly on release and on detach.
+
+mod common;
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+use rapier_contact_graph::speedups::SpeedUps;
+use rapier_contact_graph::ContactLayer;
+use rcg_scenes as scenes;
+
+fn held_config() -> SpeedUps {
+    SpeedUps {
+        cache: true,
+        subgroup: true,
+        fixate: true,
+        ..SpeedUps::contact_graph()
+    }
+}
+
+fn held_layer() -> ContactLayer {
+    let mut layer = ContactLayer::new();
+    layer.set_speedups(Some(held_config())).unwrap();
+    layer
+}
+
+#[test]
+fn a_settled_held_pile_leaves_rapiers_active_set() {
+    let mut scene = scenes::box_pile(60, 3);
+    let mut layer = held_layer();
+    let stats = common::run_validated(&mut scene, &mut layer, 0, 300);
+    let s = layer.speedups().unwrap().stats();
+    assert_eq!(s.fixated, 60, "every box held");
+    assert_eq!(s.parked, 60, "every held box out of Rapier's active set");
+    assert_eq!(stats.awake_bodies, 0);
+    // Rapier itself integrates nothing and keeps nothing in its active set.
+    assert_eq!(scene.world.islands.active_bodies().count(), 0);
+    for (_, rb) in scene.world.bodies.iter() {
+        assert!(rb.is_enabled(), "parking leaves every body enabled");
+    }
+}
+
+#[test]
+fn parking_keeps_every_pose_bit_for_bit() {
+    let mut scene = scenes::box_pile(30, 5);
+    let mut layer = held_layer();
+    // Until every box is held (fixed in Rapier, parked or not)...
+    let mut step = 0;
+    while layer.speedups().unwrap().stats().fixated < 30 {
+        common::step_validated(&mut scene, &mut layer, step);
+        step += 1;
+        assert!(step < 400, "the pile was held");
+    }
+    let before = common::pose_bits(&scene.world);
+    // ...then through parking and long after: nothing moves.
+    common::run_validated(&mut scene, &mut layer, step, 100);
+    assert_eq!(layer.speedups().unwrap().stats().parked, 30);
+    assert_eq!(common::pose_bits(&scene.world), before);
+}
+
+#[test]
+fn fixation_and_release_are_reported_as_sleep_and_wake() {
+    let mut scene = scenes::ball_on_box();
+    let bx = scene.body("box").unwrap();
+    let mut layer = held_layer();
+    let rx = layer.subscribe(Filter::kinds(KindSet::of(&[
+        EventKind::FellAsleep,
+        EventKind::WokeUp,
+    ])));
+    let bx_node = {
+        common::run_validated(&mut scene, &mut layer, 0, 1);
+        layer.node_of_body(bx).unwrap()
+    };
+    let mut held_at = None;
+    for step in 1..300 {
+        common::step_validated(&mut scene, &mut layer, step);
+        if held_at.is_none() && layer.speedups().unwrap().is_fixated(bx) {
+            held_at = Some(step);
+        }
+    }
+    let held_at = held_at.expect("the resting box was fixated");
+    let slept: Vec<_> = rx
+        .try_iter()
+        .filter(|e| e.a == bx_node)
+        .map(|e| (e.kind, e.step))
+        .collect();
+    assert_eq!(
+        slept.first().map(|&(k, _)| k),
+        Some(EventKind::FellAsleep),
+        "{slept:?}"
+    );
+    assert!(slept.iter().all(|&(k, _)| k == EventKind::FellAsleep));
+    assert!(
+        slept[0].1 <= held_at as u64 + 1,
+        "{slept:?}, held at {held_at}"
+    );
+    assert_eq!(
+        layer.stats().awake_bodies,
+        0,
+        "held and asleep: nothing integrated"
+    );
+
+    // A fast body hits it: released (dynamic again, back in Rapier's active set) and
+    // reported awake.
+    let hammer = scene.world.insert_body(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(-2.0, 0.5, 0.0))
+            .linvel(Vector::new(6.0, 0.0, 0.0)),
+    );
+    scene
+        .world
+        .insert_collider(ColliderBuilder::ball(0.25), Some(hammer));
+    let mut released = false;
+    for step in 300..400 {
+        common::step_validated(&mut scene, &mut layer, step);
+        if !layer.speedups().unwrap().is_fixated(bx) {
+            released = true;
+            break;
+        }
+    }
+    assert!(released, "released when hit");
+    common::run_validated(&mut scene, &mut layer, 400, 2);
+    assert!(scene.world.bodies[bx].is_dynamic());
+    assert!(scene.world.islands.active_bodies().any(|h| h == bx));
+    let woke: Vec<_> = rx
+        .try_iter()
+        .filter(|e| e.a == bx_node)
+        .map(|e| e.kind)
+        .collect();
+    assert_eq!(woke.first(), Some(&EventKind::WokeUp), "{woke:?}");
+}
+
+#[test]
+fn detaching_restores_parked_bodies_exactly() {
+    let mut scene = scenes::box_pile(20, 7);
+    let mut layer = held_layer();
+    common::run_validated(&mut scene, &mut layer, 0, 300);
+    assert_eq!(layer.speedups().unwrap().stats().parked, 20);
+    let poses = common::pose_bits(&scene.world);
+    layer.set_speedups(None).unwrap();
+    common::run_validated(&mut scene, &mut layer, 300, 1);
+    for (_, rb) in scene.world.bodies.iter().filter(|(_, rb)| !rb.is_fixed()) {
+        assert!(rb.is_dynamic() && rb.is_enabled());
+    }
+    assert_eq!(
+        scene
+            .world
+            .bodies
+            .iter()
+            .filter(|(_, rb)| rb.is_fixed())
+            .count(),
+        1,
+        "only the ground is fixed"
+    );
+    // Restored at rest, where they were held.
+    let after = common::pose_bits(&scene.world);
+    for (a, b) in poses.iter().zip(&after) {
+        let y = |p: &[u32; 7]| f32::from_bits(p[1]);
+        assert!((y(a) - y(b)).abs() < 1e-3, "{} vs {}", y(a), y(b));
+    }
+}
+
+#[test]
+fn a_held_body_with_a_joint_stays_in_the_active_set() {
+    // Disabling a body disables its joints: a held body with one is never parked.
+    let (mut world, _) = common::build::world_with_ground();
+    let (a, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.5, 0.5),
+    );
+    let (b, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(3.0, 0.5, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.5, 0.5),
+    );
+    world
+        .impulse_joints
+        .insert(a, b, RopeJointBuilder::new(5.0).build(), true);
+    let mut layer = held_layer();
+    for _ in 0..300 {
+        layer.step(&mut world);
+        layer.validate(&world).unwrap();
+    }
+    let s = layer.speedups().unwrap();
+    assert!(s.is_fixated(a) && s.is_fixated(b));
+    assert_eq!(s.stats().parked, 0);
+    assert!(world.bodies[a].is_enabled() && world.bodies[b].is_enabled());
+}
