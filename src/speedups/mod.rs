@@ -701,7 +701,7 @@ impl SpeedUpState {
             let untouched = graph
                 .node_of_body(h)
                 .is_some_and(|n| graph.neighbors(n).all(|(_, _, e)| !e.is_touching()));
-            if quiet && untouched && std::env::var_os("NOPARK").is_none() {
+            if quiet && untouched {
                 self.to_park.push(h);
             }
         }
