@@ -84,6 +84,10 @@ fn dynamic_bodies(world: &PhysicsWorld) -> usize {
 struct Run {
     stock: Vec<f64>,
     held: Vec<f64>,
+    /// The "moving bodies only" limit of each step: stock's time × the bodies Rapier
+    /// integrates in the held world / those it integrates in the stock world (`None`
+    /// when stock integrates nothing).
+    limit: Vec<Option<f64>>,
     /// First step from which 95% of the bodies stayed still, per world.
     still_from: [Option<usize>; 2],
     awake_end: [usize; 2],
@@ -110,6 +114,7 @@ fn run(scene: &str, args: &Args) -> Run {
     let mut r = Run {
         stock: Vec::with_capacity(args.steps),
         held: Vec::with_capacity(args.steps),
+        limit: Vec::with_capacity(args.steps),
         still_from: [None; 2],
         awake_end: [0; 2],
         fixated_end: 0,
@@ -142,6 +147,8 @@ fn run(scene: &str, args: &Args) -> Run {
             stock.islands.num_active_bodies(),
             layer.stats().awake_bodies,
         ];
+        r.limit
+            .push((awake[0] > 0).then(|| ts * awake[1] as f64 / awake[0] as f64));
         for (k, awake) in awake.into_iter().enumerate() {
             if 20 * n.saturating_sub(awake) >= 19 * n {
                 r.still_from[k].get_or_insert(i);
@@ -210,6 +217,22 @@ fn main() {
             sum(&r.held)
         );
         println!("  settled     held/stock  {}", spread(settled));
+        // Against the moving bodies alone: only where stock integrates something in
+        // every settled step (a pile stock cannot put to sleep).
+        let limits: Option<Vec<f64>> = runs
+            .iter()
+            .map(|r| {
+                let tail_limit: Option<Vec<f64>> = r.limit[r.limit.len() - args.tail..]
+                    .iter()
+                    .copied()
+                    .collect();
+                tail_limit.map(|l| sum(&r.held[r.held.len() - args.tail..]) / sum(&l))
+            })
+            .collect();
+        match limits {
+            Some(l) => println!("  settled     held/moving-bodies-only limit  {}", spread(l)),
+            None => println!("  settled     moving-bodies-only limit: n/a (stock sleeps)"),
+        }
         println!(
             "  settled µs/step         stock {}   held {}",
             us(runs.iter().map(|r| tail(&r.stock)).collect()),
