@@ -16,7 +16,11 @@
 //! cargo bench --bench overhead                      # N = 1000 and 5000, 600 steps
 //! cargo bench --bench overhead -- 1000              # only N = 1000
 //! cargo bench --bench overhead -- 5000 --steps 300  # other step count
+//! cargo bench --bench overhead -- --touching        # touching tracking (Rapier's events)
 //! ```
+//! With `--touching` the layered world is stepped as a user stepping Rapier
+//! themselves would: `pre_step` (timed with the analysis), Rapier's step with the
+//! layer's hooks and event handler, then `analyze`.
 //! The default 600 steps (6 simulated seconds at dt = 0.01) cover the fall and the
 //! settling of the pile, when (almost) every body is awake; the last 200 steps are
 //! also reported on their own as the "settled" phase.
@@ -37,16 +41,21 @@ const SEED: u64 = 1;
 struct Args {
     sizes: Vec<usize>,
     steps: usize,
+    /// Touching tracking (Rapier's collision events drive the graph) instead of
+    /// proximity tracking.
+    touching: bool,
 }
 
 fn parse_args() -> Args {
     let mut sizes = Vec::new();
     let mut steps = DEFAULT_STEPS;
+    let mut touching = false;
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
         match a.as_str() {
             // cargo passes `--bench` to harness = false benches.
             "--bench" => {}
+            "--touching" => touching = true,
             "--steps" => {
                 let v = it.next().expect("--steps needs a value");
                 steps = v.parse().expect("--steps: not a number");
@@ -67,7 +76,11 @@ fn parse_args() -> Args {
         sizes = DEFAULT_SIZES.to_vec();
     }
     assert!(steps > 0, "--steps must be positive");
-    Args { sizes, steps }
+    Args {
+        sizes,
+        steps,
+        touching,
+    }
 }
 
 /// Per-step timings in seconds.
@@ -100,6 +113,22 @@ fn plain_step(world: &mut PhysicsWorld) -> f64 {
 }
 
 fn layered_step(world: &mut PhysicsWorld, layer: &mut ContactLayer) -> (f64, f64) {
+    if layer.touching_in_effect() {
+        // Touching tracking: the pre-step flags new colliders, Rapier's step reports
+        // touch transitions to the layer's event handler.
+        let t0 = Instant::now();
+        layer.pre_step((&mut *world).into());
+        let t1 = Instant::now();
+        world.step_with_events(&layer.hooks(), layer.event_handler());
+        let t2 = Instant::now();
+        let stats = layer.analyze(WorldView::from(&*world));
+        let t3 = Instant::now();
+        black_box(stats);
+        return (
+            (t2 - t1).as_secs_f64(),
+            (t1 - t0).as_secs_f64() + (t3 - t2).as_secs_f64(),
+        );
+    }
     let t0 = Instant::now();
     world.step();
     let t1 = Instant::now();
@@ -142,11 +171,14 @@ fn bit_identical(a: &PhysicsWorld, b: &PhysicsWorld) -> bool {
     bits(a) == bits(b)
 }
 
-fn run(n: usize, steps: usize) -> Outcome {
+fn run(n: usize, steps: usize, touching: bool) -> Outcome {
     let wall0 = Instant::now();
     let mut plain = scenes::sphere_pile(n, SEED).world;
     let mut layered = scenes::sphere_pile(n, SEED).world;
     let mut layer = ContactLayer::new();
+    if touching {
+        layer.set_tracking(rapier_contact_graph::coherence::Tracking::Touching);
+    }
     let mut s = Samples {
         plain: Vec::with_capacity(steps),
         rapier: Vec::with_capacity(steps),
@@ -365,7 +397,7 @@ fn main() {
     let mut outcomes = Vec::new();
     for &n in &args.sizes {
         eprintln!("overhead: N = {n}, {} steps ...", args.steps);
-        let o = run(n, args.steps);
+        let o = run(n, args.steps, args.touching);
         eprintln!(
             "overhead: N = {n} done in {:.1} s (identical: {})",
             o.wall,

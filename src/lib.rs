@@ -23,7 +23,9 @@
 //! # Architecture (the paper's phases as modules)
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
 //! - [`coherence`]: the STC analysis after each Rapier step (§3): node upkeep,
-//!   edge insertion, proximity and touching marks, obsolete removal;
+//!   edge insertion, proximity and touching marks, obsolete removal; or, with
+//!   [`coherence::Tracking::Touching`], touch transitions from Rapier's own collision
+//!   events ([`coherence::TouchFeed`], the layer's `EventHandler`);
 //! - [`groups`]: contact groups by the traversal of Figs. 7–8;
 //! - [`logic`]: rules, timers, passive bodies, containers (Table 1, §3.2), and the
 //!   one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);

@@ -70,8 +70,15 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         let passive = |n| graph.node(n).is_some_and(|n: &crate::Node| n.is_passive());
         passive(a) || passive(b) || rules.ignores(a, b)
     };
+    // Touching tracking keeps touching edges only, each counting its touching collider
+    // pairs.
+    let touching_only = layer.coherence().tracking() == crate::coherence::Tracking::Touching;
+    let mut touching_counts: HashMap<PairKey, u32, PairBuildHasher> = HashMap::default();
     let mut rapier_pairs: HashMap<PairKey, bool, PairBuildHasher> = HashMap::default();
     for pair in view.narrow_phase.contact_pairs() {
+        if touching_only && !pair.has_any_active_contact() {
+            continue;
+        }
         let sensor = |c| view.colliders.get(c).is_none_or(|c| c.is_sensor());
         if sensor(pair.collider1) || sensor(pair.collider2) {
             continue;
@@ -87,6 +94,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             continue;
         }
         *rapier_pairs.entry(PairKey::of(n1, n2)).or_insert(false) |= pair.has_any_active_contact();
+        *touching_counts.entry(PairKey::of(n1, n2)).or_insert(0) += 1;
     }
     for (&key, &touching) in &rapier_pairs {
         let Some(eid) = graph.edge_by_key(key) else {
@@ -105,6 +113,15 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
                 "edge {eid:?} touching = {}, Rapier says {touching}",
                 e.is_touching()
             ));
+        }
+        if touching_only {
+            let want = touching_counts.get(&key).copied().unwrap_or(0);
+            if e.cache().collider_pairs != want {
+                return fail(format!(
+                    "edge {eid:?} counts {} touching collider pairs, Rapier has {want}",
+                    e.cache().collider_pairs
+                ));
+            }
         }
     }
     for (eid, e) in graph.edges() {

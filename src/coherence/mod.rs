@@ -60,11 +60,14 @@ pub(crate) mod obsolete;
 mod pair_update;
 pub(crate) mod pairs;
 mod queries;
+mod touch_feed;
 mod triggers;
 mod update;
 
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
+pub(crate) use touch_feed::TouchEvent;
+pub use touch_feed::{TouchFeed, Tracking, WithUser};
 
 use std::collections::BTreeMap;
 
@@ -152,6 +155,24 @@ pub struct Coherence {
     /// update.
     #[cfg_attr(feature = "serde", serde(default))]
     integrated: usize,
+    /// The tracking in effect at the last update (see [`Tracking`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    tracking: Tracking,
+    /// The tracking the user asked for.
+    #[cfg_attr(feature = "serde", serde(default))]
+    tracking_requested: Tracking,
+    /// Colliders the layer gave `ActiveEvents::COLLISION_EVENTS` (touching tracking),
+    /// by raw handle: the flag is taken off them again when tracking ends.
+    #[cfg_attr(feature = "serde", serde(default))]
+    touch_flagged: BTreeMap<(u32, u32), ColliderHandle>,
+    /// The collider count at the last full flag pass.
+    #[cfg_attr(feature = "serde", serde(default))]
+    touch_flag_colliders: usize,
+    #[cfg_attr(feature = "serde", serde(default))]
+    touch_flag_cursor: u32,
+    /// Colliders flagged since the last update: their touching pairs are read once.
+    #[cfg_attr(feature = "serde", serde(default))]
+    touch_rescan: Vec<ColliderHandle>,
 }
 
 /// What a trigger's read depends on besides the bodies it meets: its sensor collider's

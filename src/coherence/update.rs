@@ -124,9 +124,21 @@ impl Coherence {
         groups: &mut Groups,
         view: &WorldView,
         screen: &Screen,
+        touch: Option<&[TouchEvent]>,
     ) {
         // Saturating: a step count near u64::MAX comes only from restored bytes.
         self.step = self.step.saturating_add(1);
+        let tracking = if touch.is_some() {
+            Tracking::Touching
+        } else {
+            Tracking::Proximity
+        };
+        let switched = tracking != self.tracking;
+        self.tracking = tracking;
+        if switched && tracking == Tracking::Proximity {
+            // Back to proximity: every pair is read again.
+            self.force_full_sync = true;
+        }
         let step = self.step;
         graph.clock = step;
         self.touched.clear();
@@ -229,7 +241,20 @@ impl Coherence {
             ScanPolicy::Scan => true,
             ScanPolicy::Walk => false,
         };
-        if scan {
+        // Touching tracking reads no pair: Rapier's events say what changed (the
+        // touching pairs are read once when it starts, on request, and for colliders
+        // flagged late).
+        let scan = scan && touch.is_none();
+        if let Some(events) = touch {
+            self.apply_touch_events(graph, groups, view, screen, events);
+            let late = std::mem::take(&mut self.touch_rescan);
+            if requested || switched {
+                self.rescan_touching(graph, groups, view, screen, &[], true);
+            } else if !late.is_empty() {
+                self.rescan_touching(graph, groups, view, screen, &late, false);
+            }
+            self.counters.bodies = walk.len();
+        } else if scan {
             self.scan_all_pairs(graph, view, screen);
             self.counters.bodies = walk.len();
         } else {
@@ -309,7 +334,12 @@ impl Coherence {
             let Some(node) = graph.node(me) else { continue };
             for &eid in &node.edges {
                 let Some(e) = graph.edge(eid) else { continue };
-                let dynamic = matches!(e.kind, EdgeKind::Physical | EdgeKind::Geometric);
+                // In touching tracking, physical edges follow Rapier's events alone.
+                let dynamic = match e.kind {
+                    EdgeKind::Physical => touch.is_none(),
+                    EdgeKind::Geometric => true,
+                    _ => false,
+                };
                 if dynamic && e.walk_stamp != step {
                     self.dead.push(eid);
                 }

@@ -142,6 +142,10 @@ impl KindSet {
     pub const fn union(self, other: KindSet) -> KindSet {
         KindSet(self.0 | other.0)
     }
+    /// The kinds of `self` that are not in `other`.
+    pub const fn without(self, other: KindSet) -> KindSet {
+        KindSet(self.0 & !other.0)
+    }
     /// Whether the set is empty.
     #[inline]
     pub const fn is_empty(self) -> bool {

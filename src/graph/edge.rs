@@ -74,7 +74,8 @@ pub struct ContactCache {
     /// Smallest contact distance over all contact points (the paper's min PC);
     /// `Real::INFINITY` when there are no contact points.
     pub min_distance: Real,
-    /// The number of active solver contacts.
+    /// The number of active solver contacts (in touching tracking, of touching
+    /// collider pairs: see [`crate::coherence::Tracking`]).
     pub contact_count: u32,
     /// `contact_count` at the previous update.
     pub contact_count_old: u32,

@@ -112,6 +112,11 @@ pub struct ContactLayer {
     monitor_events: Vec<Event>,
     /// Set when the monitor goes off: the next pre-step undoes its repairs' changes.
     monitor_restore: Option<LayerMonitor>,
+    /// The event handler given to Rapier: the step's touch transitions (touching
+    /// tracking).
+    touch_feed: crate::coherence::TouchFeed,
+    /// Scratch: the drained touch transitions.
+    touch_events: Vec<crate::coherence::TouchEvent>,
 }
 
 impl Default for ContactLayer {
@@ -138,6 +143,8 @@ impl ContactLayer {
             monitor: None,
             monitor_events: Vec::new(),
             monitor_restore: None,
+            touch_feed: Default::default(),
+            touch_events: Vec::new(),
         }
     }
 }
@@ -182,6 +189,8 @@ impl ContactLayer {
             monitor: s.monitor,
             monitor_events: s.monitor_events,
             monitor_restore: s.monitor_restore,
+            touch_feed: Default::default(),
+            touch_events: Vec::new(),
         }
     }
 }

@@ -75,6 +75,86 @@ impl ContactLayer {
         self.coherence.set_scan_policy(policy);
     }
 
+    /// How the layer follows contacts (see [`Tracking`](crate::coherence::Tracking)):
+    /// [`Tracking::Proximity`](crate::coherence::Tracking::Proximity) (the default)
+    /// reads every pair of every awake body each step;
+    /// [`Tracking::Touching`](crate::coherence::Tracking::Touching) keeps touching
+    /// edges only and takes their beginnings and ends from Rapier's collision events,
+    /// at a cost proportional to the events;
+    /// [`Tracking::Auto`](crate::coherence::Tracking::Auto) is touching tracking
+    /// until a subscription asks for proximity or persist events. Touching tracking is in effect while
+    /// neither the speed-ups nor the monitor run (they need every pair's details);
+    /// switching costs one full read of the pairs at the next update.
+    ///
+    /// With touching tracking, [`Self::step`] hands Rapier the layer's event handler;
+    /// users who step Rapier themselves pass [`Self::event_handler`] (or
+    /// [`Self::event_handler_with`] to keep their own) to Rapier's step. The layer adds
+    /// `ActiveEvents::COLLISION_EVENTS` to the colliders lacking it and takes it off
+    /// again when touching tracking ends. O(1) here.
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::coherence::Tracking;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.1, 5.0));
+    /// let (ball, _) = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer.set_tracking(Tracking::Touching);
+    /// for _ in 0..100 {
+    ///     layer.step(&mut world);
+    /// }
+    /// let n = layer.node_of_body(ball).unwrap();
+    /// assert_eq!(layer.graph().touching(n).count(), 1);
+    /// layer.validate(&world).unwrap();
+    /// ```
+    pub fn set_tracking(&mut self, tracking: crate::coherence::Tracking) {
+        self.coherence.request_tracking(tracking);
+    }
+
+    /// Whether touching tracking is in effect for the next step: asked for (or `Auto`
+    /// with no subscription to proximity or persist events), and neither the
+    /// speed-ups nor the monitor on. O(subscriptions).
+    pub fn touching_in_effect(&self) -> bool {
+        use crate::coherence::Tracking;
+        use crate::events::{EventKind, KindSet};
+        let free = self.speedups.is_none() && self.monitor.is_none();
+        match self.coherence.requested_tracking() {
+            Tracking::Proximity => false,
+            Tracking::Touching => free,
+            Tracking::Auto => {
+                let costly = KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
+                free && !self.bus.wanted().intersects(costly)
+            }
+        }
+    }
+
+    /// The layer's Rapier event handler, for users who step Rapier themselves with
+    /// touching tracking on: pass it to Rapier's step with [`Self::hooks`]. O(1).
+    pub fn event_handler(&self) -> &crate::coherence::TouchFeed {
+        &self.touch_feed
+    }
+
+    /// The layer's event handler together with the user's own: the layer gets the
+    /// touch transitions, `user` exactly the events Rapier would send it without the
+    /// layer's flags (see [`WithUser`](crate::coherence::WithUser)). O(1) to make;
+    /// O(log flagged colliders) per event.
+    pub fn event_handler_with<'a, H: rapier3d::pipeline::EventHandler + ?Sized>(
+        &'a self,
+        user: &'a H,
+    ) -> crate::coherence::WithUser<'a, H> {
+        crate::coherence::WithUser {
+            feed: &self.touch_feed,
+            flagged: self.coherence.touch_flagged(),
+            user,
+        }
+    }
+
     /// Turns the per-edge contact details on (the default) or off (closest distance,
     /// contact count, deepest penetration, normal impulse). A scene that needs only the marks, the
     /// touching state and the groups pays less per contact pair with them off.

@@ -20,7 +20,7 @@ impl ContactLayer {
     /// changed.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
         self.pre_step(WorldMut::from(&mut *world));
-        world.step_with_events(&self.hooks(), &());
+        world.step_with_events(&self.hooks(), &self.touch_feed);
         self.analyze(WorldView::from(&*world))
     }
 
@@ -33,6 +33,10 @@ impl ContactLayer {
     /// is passive; O(passive bodies) while some are (their joints are checked when the
     /// world has impulse joints, their multibody membership when it has multibodies).
     pub fn pre_step(&mut self, mut world: WorldMut) {
+        let touching = self.touching_in_effect();
+        if touching || !self.coherence.touch_flagged().is_empty() {
+            self.coherence.sync_touch_flags(world.colliders, touching);
+        }
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
         self.logic.pre_step(
@@ -87,8 +91,13 @@ impl ContactLayer {
             Some(s) => self.coherence.set_parking(s.parking()),
             None => self.coherence.set_parking(std::iter::empty()),
         }
+        // Touching tracking: the transitions Rapier sent to the layer's event handler.
+        let mut touch_events = std::mem::take(&mut self.touch_events);
+        self.touch_feed.drain(&mut touch_events);
+        let touch = self.touching_in_effect().then_some(touch_events.as_slice());
         self.coherence
-            .update(&mut self.graph, &mut self.groups, &view, &screen);
+            .update(&mut self.graph, &mut self.groups, &view, &screen, touch);
+        self.touch_events = touch_events;
         if let Some(s) = &mut self.speedups {
             let changes = std::mem::take(&mut s.hold_changes);
             self.coherence.note_hold_changes(&mut self.graph, &changes);
@@ -234,8 +243,20 @@ impl ContactLayer {
                 ticks: &self.ticks,
                 removed_nodes: self.coherence.removed_nodes(),
             };
-            crate::events::collect::collect(&marks, self.bus.wanted(), &mut self.events);
-            let wanted = self.bus.wanted();
+            // Touching tracking keeps no proximity edges and reads no unchanged pair:
+            // no proximity or persist events.
+            let wanted = match self.coherence.tracking() {
+                crate::coherence::Tracking::Touching => {
+                    use crate::events::{EventKind, KindSet};
+                    let untracked =
+                        KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
+                    self.bus.wanted().without(untracked)
+                }
+                crate::coherence::Tracking::Proximity | crate::coherence::Tracking::Auto => {
+                    self.bus.wanted()
+                }
+            };
+            crate::events::collect::collect(&marks, wanted, &mut self.events);
             self.events.extend(
                 self.monitor_events
                     .drain(..)

@@ -1,0 +1,494 @@
+//! Touch transitions from Rapier's own collision events ([`Tracking::Touching`]).
+//!
+//! # Why
+//! In [`Tracking::Proximity`] the analysis reads every pair of every awake body each
+//! step (paper §3.2's marks need the narrow-phase state of each overlap), which costs
+//! about half of a Rapier step on a falling pile. Rapier already knows when a
+//! collider pair starts and stops touching and reports it, for free and without
+//! changing any result, as `CollisionEvent::Started` / `Stopped` to the
+//! `EventHandler` given to its step, for pairs where either collider has
+//! `ActiveEvents::COLLISION_EVENTS` (`docs/rapier-notes.md`). In touching tracking
+//! the layer is that event handler ([`TouchFeed`]) and the per-step work on contacts
+//! is proportional to the events, not to the awake pairs.
+//!
+//! # What the graph holds, and what it costs
+//! - Physical edges are exactly the touching body pairs (the paper's contact edges);
+//!   no proximity edges, so no `Proximity*` events, and no `TouchPersist` (nothing
+//!   reads a pair that did not change). Each edge counts its touching collider pairs
+//!   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
+//!   the edge goes when none is left.
+//! - The contact details of an edge (distances, normals, impulses) are not copied:
+//!   read Rapier's narrow phase when needed. `ContactCache::contact_count` counts the
+//!   touching collider pairs, not the solver contacts.
+//! - Per step: O(events + awake bodies) for the analysis, plus the group rebuild of
+//!   the bodies whose contacts changed.
+//! - Pairs that were touching before the feed was attached never send `Started`: the
+//!   touching pairs are read once from the narrow phase when touching tracking starts
+//!   and on [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync)
+//!   (O(pairs), on request only).
+//!
+//! # The flags it sets, and the user's events
+//! The layer adds `ActiveEvents::COLLISION_EVENTS` to every collider that lacks it
+//! (all of them when the collider count changes, 32 slots round robin otherwise) and
+//! remembers which; it takes the flag off those again when touching tracking ends.
+//! A collider that it finds unflagged has its touching pairs read at once, so a
+//! collider inserted while another was removed loses no contact. The flag changes no
+//! trajectory bit (tested). A user's own `EventHandler` must then see only the events
+//! Rapier would have sent without the layer: [`WithUser`] forwards an event only when
+//! one of its colliders carries the flag by the user's own doing.
+//!
+//! Switching the flag off on a collider the layer flagged, while touching tracking is
+//! on, hides that collider's contacts from the layer (like any change Rapier does not
+//! report: call `request_full_sync`).
+//!
+//! # Rejected
+//! - Reading `contact_pairs()` (all pairs) every step: 0.3–0.6 ms at 5,000 resting
+//!   spheres against a few µs for Rapier's sleeping step.
+//! - A crossbeam channel as the queue: a `Mutex<Vec>` drained once per step does the
+//!   same with one allocation kept across steps.
+
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+
+use rapier3d::dynamics::{SoftBodySet, SoftBodyTearEvent};
+use rapier3d::geometry::{ColliderSet, CollisionEvent, CollisionEventFlags, ContactPair};
+use rapier3d::math::Real;
+use rapier3d::pipeline::{ActiveEvents, EventHandler};
+use rapier3d::prelude::{ColliderHandle, RigidBodySet};
+
+use crate::graph::{ContactGraph, EdgeId, EdgeKind};
+use crate::groups::Groups;
+use crate::WorldView;
+
+use super::*;
+
+/// How the layer follows contacts. See the [module docs](self).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Tracking {
+    /// Every narrow-phase pair of an awake body is read each step: proximity and
+    /// touching edges, contact details, `Persist` events. What the speed-ups and the
+    /// monitor need; they turn it on while they run.
+    #[default]
+    Proximity,
+    /// Touching edges only, driven by Rapier's collision events. Takes effect while
+    /// neither the speed-ups nor the monitor run.
+    Touching,
+    /// Proximity and persistence at the price of their use: touching tracking,
+    /// except while a subscription asks for `Proximity*` or `TouchPersist` events (or
+    /// the speed-ups or the monitor run), when it is proximity tracking.
+    Auto,
+}
+
+/// One touch transition of a collider pair, as Rapier reported it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct TouchEvent {
+    pub c1: ColliderHandle,
+    pub c2: ColliderHandle,
+    pub started: bool,
+}
+
+/// The layer's `EventHandler`: collects the touch transitions of the step for the
+/// analysis. Pass it (or [`WithUser`]) to Rapier's step when stepping Rapier yourself
+/// with touching tracking on. Cheap: one push per event, under a mutex.
+#[derive(Debug, Default)]
+pub struct TouchFeed {
+    queue: Mutex<Vec<TouchEvent>>,
+}
+
+impl TouchFeed {
+    fn push(&self, event: CollisionEvent) {
+        let (c1, c2, flags, started) = match event {
+            CollisionEvent::Started(a, b, f) => (a, b, f, true),
+            CollisionEvent::Stopped(a, b, f) => (a, b, f, false),
+        };
+        if flags.contains(CollisionEventFlags::SENSOR) {
+            return;
+        }
+        // A poisoned lock only means a panic elsewhere; the queue itself is intact.
+        let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+        q.push(TouchEvent { c1, c2, started });
+    }
+
+    /// Takes the step's events, in the order Rapier sent them.
+    pub(crate) fn drain(&self, out: &mut Vec<TouchEvent>) {
+        let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+        out.clear();
+        out.append(&mut q);
+    }
+}
+
+impl EventHandler for TouchFeed {
+    fn handle_collision_event(
+        &self,
+        _bodies: &RigidBodySet,
+        _colliders: &ColliderSet,
+        event: CollisionEvent,
+        _contact_pair: Option<&ContactPair>,
+    ) {
+        self.push(event);
+    }
+
+    fn handle_contact_force_event(
+        &self,
+        _dt: Real,
+        _bodies: &RigidBodySet,
+        _colliders: &ColliderSet,
+        _contact_pair: &ContactPair,
+        _total_force_magnitude: Real,
+    ) {
+    }
+
+    fn handle_soft_body_tear_event(&self, _soft_bodies: &SoftBodySet, _event: &SoftBodyTearEvent) {}
+}
+
+/// The layer's [`TouchFeed`] together with the user's own `EventHandler`: the layer
+/// gets every touch transition, the user exactly the events Rapier would send them
+/// without the layer (a collision event only when one of its colliders has
+/// `COLLISION_EVENTS` by the user's doing; every contact-force event, whose flag the
+/// layer never sets). Made by
+/// [`ContactLayer::event_handler_with`](crate::ContactLayer::event_handler_with).
+pub struct WithUser<'a, H: ?Sized> {
+    pub(crate) feed: &'a TouchFeed,
+    pub(crate) flagged: &'a BTreeMap<(u32, u32), ColliderHandle>,
+    pub(crate) user: &'a H,
+}
+
+impl<H: EventHandler + ?Sized> EventHandler for WithUser<'_, H> {
+    fn handle_collision_event(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        event: CollisionEvent,
+        contact_pair: Option<&ContactPair>,
+    ) {
+        self.feed.push(event);
+        let (c1, c2) = match event {
+            CollisionEvent::Started(a, b, _) | CollisionEvent::Stopped(a, b, _) => (a, b),
+        };
+        let users = |c: ColliderHandle| {
+            !self.flagged.contains_key(&c.into_raw_parts())
+                && colliders
+                    .get(c)
+                    .is_some_and(|co| co.active_events().contains(ActiveEvents::COLLISION_EVENTS))
+        };
+        // A removed collider is gone from the set: Rapier sent the event because of
+        // the other one's flag, or of the removed one's, which the layer never set
+        // unless it is in `flagged`.
+        let removed = |c: ColliderHandle| {
+            !colliders.contains(c) && !self.flagged.contains_key(&c.into_raw_parts())
+        };
+        if users(c1) || users(c2) || removed(c1) || removed(c2) {
+            self.user
+                .handle_collision_event(bodies, colliders, event, contact_pair);
+        }
+    }
+
+    fn handle_contact_force_event(
+        &self,
+        dt: Real,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        contact_pair: &ContactPair,
+        total_force_magnitude: Real,
+    ) {
+        self.user.handle_contact_force_event(
+            dt,
+            bodies,
+            colliders,
+            contact_pair,
+            total_force_magnitude,
+        );
+    }
+
+    fn handle_soft_body_tear_event(&self, soft_bodies: &SoftBodySet, event: &SoftBodyTearEvent) {
+        self.user.handle_soft_body_tear_event(soft_bodies, event);
+    }
+}
+
+impl Coherence {
+    /// The tracking in effect at the last update: [`Tracking::Proximity`] or
+    /// [`Tracking::Touching`], never `Auto`.
+    pub fn tracking(&self) -> Tracking {
+        self.tracking
+    }
+
+    /// The tracking asked for (in effect while neither the speed-ups nor the monitor
+    /// run).
+    pub fn requested_tracking(&self) -> Tracking {
+        self.tracking_requested
+    }
+
+    pub(crate) fn request_tracking(&mut self, tracking: Tracking) {
+        self.tracking_requested = tracking;
+    }
+
+    /// The colliders the layer gave `COLLISION_EVENTS`, by raw handle.
+    pub(crate) fn touch_flagged(&self) -> &BTreeMap<(u32, u32), ColliderHandle> {
+        &self.touch_flagged
+    }
+
+    /// Sets or takes off the layer's `COLLISION_EVENTS` flags, before Rapier's step:
+    /// with `on`, every collider lacking the flag gets it (all colliders when their
+    /// count changed or tracking just started, 32 slots round robin otherwise); without,
+    /// the flags the layer set are taken off again. A collider found unflagged is
+    /// remembered: its touching pairs are read at the next update. O(colliders) on a
+    /// change, O(32) otherwise.
+    pub(crate) fn sync_touch_flags(&mut self, colliders: &mut ColliderSet, on: bool) {
+        if !on {
+            for (_, c) in std::mem::take(&mut self.touch_flagged) {
+                if let Some(co) = colliders.get_mut(c) {
+                    let f = co.active_events() - ActiveEvents::COLLISION_EVENTS;
+                    co.set_active_events(f);
+                }
+            }
+            self.touch_flag_colliders = usize::MAX;
+            return;
+        }
+        let flagged = &mut self.touch_flagged;
+        let rescan = &mut self.touch_rescan;
+        let mut flag = |c: ColliderHandle, colliders: &mut ColliderSet| {
+            let Some(co) = colliders.get_mut(c) else {
+                return;
+            };
+            if !co.active_events().contains(ActiveEvents::COLLISION_EVENTS) {
+                co.set_active_events(co.active_events() | ActiveEvents::COLLISION_EVENTS);
+                flagged.insert(c.into_raw_parts(), c);
+                rescan.push(c);
+            }
+        };
+        if colliders.len() != self.touch_flag_colliders {
+            self.touch_flag_colliders = colliders.len();
+            let all: Vec<ColliderHandle> = colliders.iter().map(|(h, _)| h).collect();
+            for c in all {
+                flag(c, colliders);
+            }
+            // Forget colliders that are gone.
+            self.touch_flagged.retain(|_, c| colliders.contains(*c));
+        } else {
+            let span = colliders.len() as u32 + VERIFY_PER_STEP as u32;
+            let slots: Vec<u32> =
+                round_robin(&mut self.touch_flag_cursor, span, VERIFY_PER_STEP).collect();
+            for i in slots {
+                if let Some((_, h)) = colliders.get_unknown_gen(i) {
+                    flag(h, colliders);
+                }
+            }
+        }
+    }
+
+    /// Applies the step's touch transitions to the physical edges (touching tracking).
+    pub(super) fn apply_touch_events(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        screen: &Screen,
+        events: &[TouchEvent],
+    ) {
+        let step = self.step;
+        let mut changed: Vec<EdgeId> = Vec::new();
+        for ev in events {
+            self.counters.collider_pairs += 1;
+            let (Some(n1), Some(n2)) = (
+                self.owner_of(graph, view, ev.c1),
+                self.owner_of(graph, view, ev.c2),
+            ) else {
+                continue;
+            };
+            if n1 == n2 {
+                continue;
+            }
+            let eid = if ev.started {
+                if !screen.admits(graph, n1, n2) {
+                    continue;
+                }
+                match pairs::physical_edge_for(graph, n1, n2, step) {
+                    Some(e) => e,
+                    None => continue,
+                }
+            } else {
+                match graph.edge_by_key(crate::graph::PairKey::of(n1, n2)) {
+                    Some(e) if graph.edge(e).is_some_and(|e| e.kind == EdgeKind::Physical) => e,
+                    _ => continue,
+                }
+            };
+            self.begin_touch_update(graph, eid, &mut changed);
+            if let Some(e) = graph.edge_mut(eid) {
+                let c = &mut e.cache;
+                c.collider_pairs = if ev.started {
+                    c.collider_pairs.saturating_add(1)
+                } else {
+                    c.collider_pairs.saturating_sub(1)
+                };
+            }
+        }
+        self.settle_touch_edges(graph, groups, &changed);
+    }
+
+    /// Reads the touching pairs of the given colliders (flagged late) or, with `all`,
+    /// of the whole narrow phase, and sets the physical edges to them. O(their pairs),
+    /// or O(pairs + edges) with `all`.
+    pub(super) fn rescan_touching(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        screen: &Screen,
+        colliders: &[ColliderHandle],
+        all: bool,
+    ) {
+        let step = self.step;
+        let mut counts: BTreeMap<EdgeId, u32> = BTreeMap::new();
+        // A pair between two rescanned nodes is met from both: counted once.
+        let mut seen: std::collections::BTreeSet<((u32, u32), (u32, u32))> = Default::default();
+        let mut visit = |this: &mut Self, graph: &mut ContactGraph, pair: &ContactPair| {
+            if !all
+                && !seen.insert((
+                    pair.collider1.into_raw_parts(),
+                    pair.collider2.into_raw_parts(),
+                ))
+            {
+                return;
+            }
+            let (Some(n1), Some(n2)) = (
+                this.owner_of(graph, view, pair.collider1),
+                this.owner_of(graph, view, pair.collider2),
+            ) else {
+                return;
+            };
+            if n1 == n2 || !screen.admits(graph, n1, n2) {
+                return;
+            }
+            if pair.has_any_active_contact() {
+                if let Some(e) = pairs::physical_edge_for(graph, n1, n2, step) {
+                    *counts.entry(e).or_insert(0) += 1;
+                }
+            }
+        };
+        // The nodes whose every pair is read (the owners of the late colliders), so
+        // that their edges are counted in full.
+        let mut nodes: Vec<NodeId> = Vec::new();
+        if all {
+            for pair in view.narrow_phase.contact_pairs() {
+                visit(self, graph, pair);
+            }
+        } else {
+            for &c in colliders {
+                if let Some(n) = self.owner_of(graph, view, c) {
+                    nodes.push(n);
+                }
+            }
+            nodes.sort_unstable();
+            nodes.dedup();
+            let mut own = Vec::new();
+            for &n in &nodes {
+                if !colliders_of(graph, view, n, &mut own) {
+                    continue;
+                }
+                for &c in &own {
+                    for pair in view.narrow_phase.contact_pairs_with(c) {
+                        visit(self, graph, pair);
+                    }
+                }
+            }
+        }
+        // The edges to set: every physical edge with `all`, else those of the nodes
+        // read; each counts 0 unless counted.
+        let mut targets: Vec<EdgeId> = if all {
+            graph
+                .edges()
+                .filter(|(_, e)| e.kind == EdgeKind::Physical)
+                .map(|(id, _)| id)
+                .collect()
+        } else {
+            nodes
+                .iter()
+                .filter_map(|&n| graph.node(n))
+                .flat_map(|n| n.edges.iter().copied())
+                .filter(|&e| graph.edge(e).is_some_and(|e| e.kind == EdgeKind::Physical))
+                .collect()
+        };
+        if !all {
+            // Counted edges of pairs between two other nodes are not fully read.
+            counts.retain(|e, _| {
+                graph.edge(*e).is_some_and(|e| {
+                    nodes.binary_search(&e.a).is_ok() || nodes.binary_search(&e.b).is_ok()
+                })
+            });
+        }
+        targets.extend(counts.keys().copied());
+        targets.sort_unstable();
+        targets.dedup();
+        let mut changed = Vec::new();
+        for eid in targets {
+            let want = counts.get(&eid).copied().unwrap_or(0);
+            let Some(e) = graph.edge(eid) else { continue };
+            if e.cache.collider_pairs == want && (want > 0) == e.cache.touching {
+                continue;
+            }
+            self.begin_touch_update(graph, eid, &mut changed);
+            if let Some(e) = graph.edge_mut(eid) {
+                e.cache.collider_pairs = want;
+            }
+        }
+        self.settle_touch_edges(graph, groups, &changed);
+    }
+
+    /// Starts this step's update of a physical edge in touching tracking (once per
+    /// step): shifts its state to `e_old`, keeping its count of touching collider
+    /// pairs.
+    fn begin_touch_update(
+        &mut self,
+        graph: &mut ContactGraph,
+        eid: EdgeId,
+        changed: &mut Vec<EdgeId>,
+    ) {
+        let step = self.step;
+        let Some(e) = graph.edge_mut(eid) else { return };
+        if e.walk_stamp == step {
+            return;
+        }
+        let pairs = e.cache.collider_pairs;
+        e.cache.begin_update(false);
+        e.cache.collider_pairs = pairs;
+        e.walk_stamp = step;
+        e.updated_step = step;
+        changed.push(eid);
+    }
+
+    /// Ends the step's update of the changed edges: touching (and proximity, which is
+    /// the same here) from the count; an edge left with no touching pair is removed
+    /// and reported with its `Vanished` marks; the others are this step's touched
+    /// edges. Both ends of an edge whose touching changed are regrouped.
+    fn settle_touch_edges(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        changed: &[EdgeId],
+    ) {
+        for &eid in changed {
+            let Some(e) = graph.edge_mut(eid) else {
+                continue;
+            };
+            let touching = e.cache.collider_pairs > 0;
+            e.cache.touching = touching;
+            e.cache.proximity = touching;
+            // No solver contact is read here: the count is of touching collider pairs.
+            e.cache.contact_count = e.cache.collider_pairs;
+            let (a, b, was) = (e.a, e.b, e.cache.touching_old);
+            if was != touching {
+                groups.disturb(graph, a);
+                groups.disturb(graph, b);
+            }
+            if touching {
+                self.touched.push(eid);
+                self.counters.edges += 1;
+            } else if let Some(e) = graph.remove_edge(eid) {
+                if was {
+                    self.removed_edges.push(e);
+                }
+            }
+        }
+    }
+}
