@@ -19,13 +19,20 @@
 //!   (`Rule::ignore_pair`, `Rule::ignore_between` on live body, static-collider and
 //!   trigger nodes), a timer, a declared composite; subscribe (bounded or not, filtered by kind and node),
 //!   unsubscribe, drop a receiver; switch the speed-ups on, off or to another
-//!   combination (`set_speedups(Some(SpeedUps::combination(bits)))` / `None`);
-//!   `request_full_sync`;
+//!   combination (`set_speedups(Some(SpeedUps::combination(bits)))` / `None`); ask
+//!   for touching or proximity tracking (`set_tracking`); `request_full_sync`;
 //! - **`Step(n)`:** n steps of `ContactLayer::step` (1–5 mostly, sometimes 20–40 so
 //!   that bodies settle, sleep and get sleepy).
 //!
 //! A sequence has 20–60 operations; the harness steps once before and three times
 //! after them.
+//!
+//! Touching tracking yields to any subscription to proximity or persist events, and
+//! the harness's own contract subscribers ask for every kind: so here it never takes
+//! effect (the totals count the steps where it did: 0), and the operation checks that
+//! asking for it changes nothing else. Touching tracking itself is tested in
+//! `tests/touch_tracking.rs` (equal touch events and touching edges to proximity
+//! tracking step by step, validated, on several scenes).
 //!
 //! Following the docs, the harness calls `request_full_sync()` after changing a
 //! *sleeping, fixed or passive* body in place (type change, moving a fixed body or a
@@ -150,6 +157,7 @@ mod fuzz {
             t.kinds_seen |= c.kinds_seen;
             t.sleeping_seen += c.sleeping_seen;
             t.refused += c.refused;
+            t.touching_steps += c.touching_steps;
             Ok(())
         });
         let result = result.map_err(|e| match e {
@@ -169,7 +177,7 @@ mod fuzz {
         eprintln!(
             "fuzz_operations: {cases} cases in {:.1?}: {} ops, {} steps, {} events, \
              max {} nodes, event kinds seen {:#013b}, body-steps asleep {}, \
-             passive changes refused {}",
+             passive changes refused {}, steps with touching tracking {}",
             start.elapsed(),
             t.ops,
             t.steps,
@@ -177,7 +185,8 @@ mod fuzz {
             t.max_nodes,
             t.kinds_seen,
             t.sleeping_seen,
-            t.refused
+            t.refused,
+            t.touching_steps
         );
         if let Err(e) = result {
             panic!("{e}");

@@ -103,14 +103,7 @@ fn fixation_and_release_are_reported_as_sleep_and_wake() {
 
     // A fast body hits it: released (dynamic again, back in Rapier's active set) and
     // reported awake.
-    let hammer = scene.world.insert_body(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(-2.0, 0.5, 0.0))
-            .linvel(Vector::new(6.0, 0.0, 0.0)),
-    );
-    scene
-        .world
-        .insert_collider(ColliderBuilder::ball(0.25), Some(hammer));
+    common::build::hammer(&mut scene.world);
     let mut released = false;
     for step in 300..400 {
         common::step_validated(&mut scene, &mut layer, step);

@@ -292,14 +292,7 @@ fn fixate_holds_a_body_bit_identical_and_restores_it_exactly() {
         "held bit-identical"
     );
     // A fast body hits it: released, dynamic again, mass restored exactly.
-    let hammer = scene.world.insert_body(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(-2.0, 0.5, 0.0))
-            .linvel(Vector::new(6.0, 0.0, 0.0)),
-    );
-    scene
-        .world
-        .insert_collider(ColliderBuilder::ball(0.25), Some(hammer));
+    common::build::hammer(&mut scene.world);
     let mut released = false;
     for step in 400..480 {
         common::run_validated(&mut scene, &mut layer, step, 1);

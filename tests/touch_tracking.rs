@@ -70,8 +70,11 @@ fn touch_events_are_those_of_proximity_tracking() {
         let mut b = build();
         let mut proximity = ContactLayer::new();
         let mut touching = touching_layer();
-        let _ra = proximity.subscribe(Filter::kinds(KindSet::TOUCH));
-        let _rb = touching.subscribe(Filter::kinds(KindSet::TOUCH));
+        // Begin and end only: a subscription to persist events would need proximity
+        // tracking.
+        let begin_end = KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd]);
+        let _ra = proximity.subscribe(Filter::kinds(begin_end));
+        let _rb = touching.subscribe(Filter::kinds(begin_end));
         let mut seen = 0;
         for step in 0..300 {
             common::step_validated(&mut a, &mut proximity, step);
@@ -93,6 +96,11 @@ fn touch_events_are_those_of_proximity_tracking() {
             assert_eq!(pairs(&proximity), pairs(&touching), "{name}: step {step}");
         }
         assert!(seen > 0, "{name}: some touches began or ended");
+        assert_eq!(
+            touching.coherence().tracking(),
+            Tracking::Touching,
+            "{name}"
+        );
         // No proximity events, no persist events, in touching tracking.
         assert!(touching
             .last_events()
@@ -249,10 +257,10 @@ fn colliders_added_and_removed_between_steps_keep_their_touches() {
 }
 
 #[test]
-fn auto_tracking_touches_until_someone_asks_for_proximity() {
+fn touching_tracking_yields_while_someone_asks_for_proximity() {
     let mut scene = scenes::sphere_pile(100, 3);
     let mut layer = ContactLayer::new();
-    layer.set_tracking(Tracking::Auto);
+    layer.set_tracking(Tracking::Touching);
     let touches = layer.subscribe(Filter::kinds(
         KindSet::TOUCH.without(KindSet::of(&[EventKind::TouchPersist])),
     ));

@@ -13,8 +13,9 @@
 //!
 //! # What the graph holds, and what it costs
 //! - Physical edges are exactly the touching body pairs (the paper's contact edges);
-//!   no proximity edges, so no `Proximity*` events, and no `TouchPersist` (nothing
-//!   reads a pair that did not change). Each edge counts its touching collider pairs
+//!   no proximity edges and no `TouchPersist` (nothing reads a pair that did not
+//!   change). A subscription to those events, the speed-ups or the monitor need
+//!   every pair read: while one of them is there, the layer tracks proximity. Each edge counts its touching collider pairs
 //!   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
 //!   the edge goes when none is left.
 //! - The contact details of an edge (distances, normals, impulses) are not copied:
@@ -71,13 +72,11 @@ pub enum Tracking {
     /// monitor need; they turn it on while they run.
     #[default]
     Proximity,
-    /// Touching edges only, driven by Rapier's collision events. Takes effect while
-    /// neither the speed-ups nor the monitor run.
+    /// Touching edges only, driven by Rapier's collision events: proximity and
+    /// persistence at the price of their use. In effect while no subscription asks
+    /// for `Proximity*` or `TouchPersist` events and neither the speed-ups nor the
+    /// monitor run; proximity tracking meanwhile (each switch reads the pairs once).
     Touching,
-    /// Proximity and persistence at the price of their use: touching tracking,
-    /// except while a subscription asks for `Proximity*` or `TouchPersist` events (or
-    /// the speed-ups or the monitor run), when it is proximity tracking.
-    Auto,
 }
 
 /// One touch transition of a collider pair, as Rapier reported it.
@@ -207,8 +206,7 @@ impl<H: EventHandler + ?Sized> EventHandler for WithUser<'_, H> {
 }
 
 impl Coherence {
-    /// The tracking in effect at the last update: [`Tracking::Proximity`] or
-    /// [`Tracking::Touching`], never `Auto`.
+    /// The tracking in effect at the last update.
     pub fn tracking(&self) -> Tracking {
         self.tracking
     }

@@ -80,11 +80,9 @@ impl ContactLayer {
     /// reads every pair of every awake body each step;
     /// [`Tracking::Touching`](crate::coherence::Tracking::Touching) keeps touching
     /// edges only and takes their beginnings and ends from Rapier's collision events,
-    /// at a cost proportional to the events;
-    /// [`Tracking::Auto`](crate::coherence::Tracking::Auto) is touching tracking
-    /// until a subscription asks for proximity or persist events. Touching tracking is in effect while
-    /// neither the speed-ups nor the monitor run (they need every pair's details);
-    /// switching costs one full read of the pairs at the next update.
+    /// at a cost proportional to the events, while nothing needs more: no subscription
+    /// to proximity or persist events, no speed-ups, no monitor. Otherwise the layer tracks proximity
+    /// meanwhile; each switch costs one full read of the pairs at the next update.
     ///
     /// With touching tracking, [`Self::step`] hands Rapier the layer's event handler;
     /// users who step Rapier themselves pass [`Self::event_handler`] (or
@@ -117,21 +115,17 @@ impl ContactLayer {
         self.coherence.request_tracking(tracking);
     }
 
-    /// Whether touching tracking is in effect for the next step: asked for (or `Auto`
-    /// with no subscription to proximity or persist events), and neither the
-    /// speed-ups nor the monitor on. O(subscriptions).
+    /// Whether touching tracking is in effect for the next step: asked for, no
+    /// subscription to proximity or persist events, and neither the speed-ups nor
+    /// the monitor on. O(subscriptions).
     pub fn touching_in_effect(&self) -> bool {
         use crate::coherence::Tracking;
         use crate::events::{EventKind, KindSet};
-        let free = self.speedups.is_none() && self.monitor.is_none();
-        match self.coherence.requested_tracking() {
-            Tracking::Proximity => false,
-            Tracking::Touching => free,
-            Tracking::Auto => {
-                let costly = KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
-                free && !self.bus.wanted().intersects(costly)
-            }
-        }
+        let costly = KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
+        self.coherence.requested_tracking() == Tracking::Touching
+            && self.speedups.is_none()
+            && self.monitor.is_none()
+            && !self.bus.wanted().intersects(costly)
     }
 
     /// The layer's Rapier event handler, for users who step Rapier themselves with

@@ -252,9 +252,7 @@ impl ContactLayer {
                         KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
                     self.bus.wanted().without(untracked)
                 }
-                crate::coherence::Tracking::Proximity | crate::coherence::Tracking::Auto => {
-                    self.bus.wanted()
-                }
+                crate::coherence::Tracking::Proximity => self.bus.wanted(),
             };
             crate::events::collect::collect(&marks, wanted, &mut self.events);
             self.events.extend(

@@ -92,3 +92,15 @@ pub fn multibody_chain(world: &mut PhysicsWorld) -> (RigidBodyHandle, RigidBodyH
 pub fn chain_joint() -> RevoluteJointBuilder {
     RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0))
 }
+
+/// A 0.25 m ball at (-2, 0.5, 0) flying at 6 m/s along +x: thrown at a body resting at
+/// the origin (a held body is released when it is hit).
+pub fn hammer(world: &mut PhysicsWorld) -> RigidBodyHandle {
+    let h = world.insert_body(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(-2.0, 0.5, 0.0))
+            .linvel(Vector::new(6.0, 0.0, 0.0)),
+    );
+    world.insert_collider(ColliderBuilder::ball(0.25), Some(h));
+    h
+}

@@ -465,6 +465,11 @@ impl Harness {
                     .set_speedups(bits.map(SpeedUps::combination))
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
+            Op::Touching(on) => self.layer.set_tracking(if on {
+                rapier_contact_graph::coherence::Tracking::Touching
+            } else {
+                rapier_contact_graph::coherence::Tracking::Proximity
+            }),
             Op::FullSync => self.layer.request_full_sync(),
             Op::Step(n) => {
                 for _ in 0..n.clamp(1, 40) {

@@ -52,6 +52,10 @@ impl Harness {
         }
         (self.added, self.removed) = (false, false);
         self.counters.steps += 1;
+        if self.layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching
+        {
+            self.counters.touching_steps += 1;
+        }
         let step = self.layer.current_step();
         self.quarantined
             .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));

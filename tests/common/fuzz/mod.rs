@@ -57,6 +57,8 @@ pub struct Counters {
     /// `set_passive(true)` calls refused, and passive changes the pre-step refused
     /// or undid.
     pub refused: u64,
+    /// Steps analysed with touching tracking in effect (Rapier's events).
+    pub touching_steps: u64,
 }
 
 /// A world, a layer, and the checks.

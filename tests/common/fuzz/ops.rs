@@ -137,6 +137,8 @@ pub enum Op {
     DropReceiver(u8),
     /// `set_speedups(Some(SpeedUps::combination(bits % 128)))`, or `None`.
     SpeedUps(Option<u8>),
+    /// `set_tracking`: touching tracking (Rapier's events) or proximity tracking.
+    Touching(bool),
     FullSync,
     /// n steps (1..=40).
     Step(u8),

@@ -155,6 +155,7 @@ pub fn op() -> impl Strategy<Value = Op> {
         (1, idx().prop_map(Op::Unsubscribe).boxed()),
         (1, idx().prop_map(Op::DropReceiver).boxed()),
         (2, prop::option::of(0u8..128).prop_map(Op::SpeedUps).boxed()),
+        (2, any::<bool>().prop_map(Op::Touching).boxed()),
         (1, Just(Op::FullSync).boxed()),
         (20, (1u8..=5).prop_map(Op::Step).boxed()),
         (2, (20u8..=40).prop_map(Op::Step).boxed()),
