@@ -1,52 +1,5 @@
-//! Touch transitions from Rapier's own collision events ([`Tracking::Touching`]).
-//!
-//! # Why
-//! In [`Tracking::Proximity`] the analysis reads every pair of every awake body each
-//! step (paper §3.2's marks need the narrow-phase state of each overlap), which costs
-//! about half of a Rapier step on a falling pile. Rapier already knows when a
-//! collider pair starts and stops touching and reports it, for free and without
-//! changing any result, as `CollisionEvent::Started` / `Stopped` to the
-//! `EventHandler` given to its step, for pairs where either collider has
-//! `ActiveEvents::COLLISION_EVENTS` (`docs/rapier-notes.md`). In touching tracking
-//! the layer is that event handler ([`TouchFeed`]) and the per-step work on contacts
-//! is proportional to the events, not to the awake pairs.
-//!
-//! # What the graph holds, and what it costs
-//! - Physical edges are exactly the touching body pairs (the paper's contact edges);
-//!   no proximity edges and no `TouchPersist` (nothing reads a pair that did not
-//!   change). A subscription to those events, the speed-ups or the monitor need
-//!   every pair read: while one of them is there, the layer tracks proximity. Each edge counts its touching collider pairs
-//!   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
-//!   the edge goes when none is left.
-//! - The contact details of an edge (distances, normals, impulses) are not copied:
-//!   read Rapier's narrow phase when needed. `ContactCache::contact_count` counts the
-//!   touching collider pairs, not the solver contacts.
-//! - Per step: O(events + awake bodies) for the analysis, plus the group rebuild of
-//!   the bodies whose contacts changed.
-//! - Pairs that were touching before the feed was attached never send `Started`: the
-//!   touching pairs are read once from the narrow phase when touching tracking starts
-//!   and on [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync)
-//!   (O(pairs), on request only).
-//!
-//! # The flags it sets, and the user's events
-//! The layer adds `ActiveEvents::COLLISION_EVENTS` to every collider that lacks it
-//! (all of them when the collider count changes, 32 slots round robin otherwise) and
-//! remembers which; it takes the flag off those again when touching tracking ends.
-//! A collider that it finds unflagged has its touching pairs read at once, so a
-//! collider inserted while another was removed loses no contact. The flag changes no
-//! trajectory bit (tested). A user's own `EventHandler` must then see only the events
-//! Rapier would have sent without the layer: [`WithUser`] forwards an event only when
-//! one of its colliders carries the flag by the user's own doing.
-//!
-//! Switching the flag off on a collider the layer flagged, while touching tracking is
-//! on, hides that collider's contacts from the layer (like any change Rapier does not
-//! report: call `request_full_sync`).
-//!
-//! # Rejected
-//! - Reading `contact_pairs()` (all pairs) every step: 0.3–0.6 ms at 5,000 resting
-//!   spheres against a few µs for Rapier's sleeping step.
-//! - A crossbeam channel as the queue: a `Mutex<Vec>` drained once per step does the
-//!   same with one allocation kept across steps.
+//! Touch transitions from Rapier's own collision events: [`Tracking`], the layer's
+//! [`TouchFeed`] and [`WithUser`]. The design is written out on [`Tracking`].
 
 use std::collections::BTreeMap;
 use std::sync::Mutex;
@@ -63,7 +16,55 @@ use crate::WorldView;
 
 use super::*;
 
-/// How the layer follows contacts. See the [module docs](self).
+/// How the layer follows contacts.
+///
+/// # Why
+/// In [`Tracking::Proximity`] the analysis reads every pair of every awake body each
+/// step (paper §3.2's marks need the narrow-phase state of each overlap), which costs
+/// about half of a Rapier step on a falling pile. Rapier already knows when a
+/// collider pair starts and stops touching and reports it, for free and without
+/// changing any result, as `CollisionEvent::Started` / `Stopped` to the
+/// `EventHandler` given to its step, for pairs where either collider has
+/// `ActiveEvents::COLLISION_EVENTS` (`docs/rapier-notes.md`). In touching tracking
+/// the layer is that event handler ([`TouchFeed`]) and the per-step work on contacts
+/// is proportional to the events, not to the awake pairs.
+///
+/// # What the graph holds, and what it costs
+/// - Physical edges are exactly the touching body pairs (the paper's contact edges);
+///   no proximity edges and no `TouchPersist` (nothing reads a pair that did not
+///   change). A subscription to those events, the speed-ups or the monitor need
+///   every pair read: while one of them is there, the layer tracks proximity. Each edge counts its touching collider pairs
+///   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
+///   the edge goes when none is left.
+/// - The contact details of an edge (distances, normals, impulses) are not copied:
+///   read Rapier's narrow phase when needed. `ContactCache::contact_count` counts the
+///   touching collider pairs, not the solver contacts.
+/// - Per step: O(events + awake bodies) for the analysis, plus the group rebuild of
+///   the bodies whose contacts changed.
+/// - Pairs that were touching before the feed was attached never send `Started`: the
+///   touching pairs are read once from the narrow phase when touching tracking starts
+///   and on [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync)
+///   (O(pairs), on request only).
+///
+/// # The flags it sets, and the user's events
+/// The layer adds `ActiveEvents::COLLISION_EVENTS` to every collider that lacks it
+/// (all of them when the collider count changes, 32 slots round robin otherwise) and
+/// remembers which; it takes the flag off those again when touching tracking ends.
+/// A collider that it finds unflagged has its touching pairs read at once, so a
+/// collider inserted while another was removed loses no contact. The flag changes no
+/// trajectory bit (tested). A user's own `EventHandler` must then see only the events
+/// Rapier would have sent without the layer: [`WithUser`] forwards an event only when
+/// one of its colliders carries the flag by the user's own doing.
+///
+/// Switching the flag off on a collider the layer flagged, while touching tracking is
+/// on, hides that collider's contacts from the layer (like any change Rapier does not
+/// report: call `request_full_sync`).
+///
+/// # Rejected
+/// - Reading `contact_pairs()` (all pairs) every step: 0.3–0.6 ms at 5,000 resting
+///   spheres against a few µs for Rapier's sleeping step.
+/// - A crossbeam channel as the queue: a `Mutex<Vec>` drained once per step does the
+///   same with one allocation kept across steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Tracking {
