@@ -94,7 +94,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             continue;
         }
         *rapier_pairs.entry(PairKey::of(n1, n2)).or_insert(false) |= pair.has_any_active_contact();
-        *touching_counts.entry(PairKey::of(n1, n2)).or_insert(0) += 1;
+        if touching_only {
+            *touching_counts.entry(PairKey::of(n1, n2)).or_insert(0) += 1;
+        }
     }
     for (&key, &touching) in &rapier_pairs {
         let Some(eid) = graph.edge_by_key(key) else {

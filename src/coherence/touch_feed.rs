@@ -246,11 +246,13 @@ impl Coherence {
         }
         let flagged = &mut self.touch_flagged;
         let rescan = &mut self.touch_rescan;
+        // Read first: `ColliderSet::get_mut` marks a collider modified for Rapier's
+        // next step, so only a collider that needs the flag is written.
         let mut flag = |c: ColliderHandle, colliders: &mut ColliderSet| {
-            let Some(co) = colliders.get_mut(c) else {
-                return;
-            };
-            if !co.active_events().contains(ActiveEvents::COLLISION_EVENTS) {
+            let lacks = colliders
+                .get(c)
+                .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS));
+            if let Some(co) = colliders.get_mut(c).filter(|_| lacks) {
                 co.set_active_events(co.active_events() | ActiveEvents::COLLISION_EVENTS);
                 flagged.insert(c.into_raw_parts(), c);
                 rescan.push(c);
@@ -408,14 +410,6 @@ impl Coherence {
                 .filter(|&e| graph.edge(e).is_some_and(|e| e.kind == EdgeKind::Physical))
                 .collect()
         };
-        if !all {
-            // Counted edges of pairs between two other nodes are not fully read.
-            counts.retain(|e, _| {
-                graph.edge(*e).is_some_and(|e| {
-                    nodes.binary_search(&e.a).is_ok() || nodes.binary_search(&e.b).is_ok()
-                })
-            });
-        }
         targets.extend(counts.keys().copied());
         targets.sort_unstable();
         targets.dedup();

@@ -127,6 +127,11 @@ impl KindSet {
     pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
     /// Violation / repaired (the plausibility monitor's).
     pub const MONITOR: KindSet = KindSet(0b1_1000_0000_0000);
+    /// The kinds only proximity tracking produces (`Proximity*` and `TouchPersist`):
+    /// a subscription to one of them needs every pair read each step
+    /// ([`crate::coherence::Tracking`]).
+    pub const NEEDS_EVERY_PAIR: KindSet =
+        KindSet(KindSet::PROXIMITY.0 | 1 << EventKind::TouchPersist as u16);
 
     /// The set of the given kinds.
     pub fn of(kinds: &[EventKind]) -> KindSet {

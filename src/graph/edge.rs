@@ -75,7 +75,7 @@ pub struct ContactCache {
     /// `Real::INFINITY` when there are no contact points.
     pub min_distance: Real,
     /// The number of active solver contacts (in touching tracking, of touching
-    /// collider pairs: see [`crate::coherence::Tracking`]).
+    /// collider pairs: see `coherence::Tracking`).
     pub contact_count: u32,
     /// `contact_count` at the previous update.
     pub contact_count_old: u32,

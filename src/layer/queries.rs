@@ -119,13 +119,13 @@ impl ContactLayer {
     /// subscription to proximity or persist events, and neither the speed-ups nor
     /// the monitor on. O(subscriptions).
     pub fn touching_in_effect(&self) -> bool {
-        use crate::coherence::Tracking;
-        use crate::events::{EventKind, KindSet};
-        let costly = KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
-        self.coherence.requested_tracking() == Tracking::Touching
+        self.coherence.requested_tracking() == crate::coherence::Tracking::Touching
             && self.speedups.is_none()
             && self.monitor.is_none()
-            && !self.bus.wanted().intersects(costly)
+            && !self
+                .bus
+                .wanted()
+                .intersects(crate::events::KindSet::NEEDS_EVERY_PAIR)
     }
 
     /// The layer's Rapier event handler, for users who step Rapier themselves with

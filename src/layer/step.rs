@@ -246,12 +246,10 @@ impl ContactLayer {
             // Touching tracking keeps no proximity edges and reads no unchanged pair:
             // no proximity or persist events.
             let wanted = match self.coherence.tracking() {
-                crate::coherence::Tracking::Touching => {
-                    use crate::events::{EventKind, KindSet};
-                    let untracked =
-                        KindSet::PROXIMITY.union(KindSet::of(&[EventKind::TouchPersist]));
-                    self.bus.wanted().without(untracked)
-                }
+                crate::coherence::Tracking::Touching => self
+                    .bus
+                    .wanted()
+                    .without(crate::events::KindSet::NEEDS_EVERY_PAIR),
                 crate::coherence::Tracking::Proximity => self.bus.wanted(),
             };
             crate::events::collect::collect(&marks, wanted, &mut self.events);

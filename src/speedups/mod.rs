@@ -92,6 +92,26 @@ struct Held {
     park: Park,
 }
 
+impl Held {
+    /// Gives the body back to the simulation exactly as it was held: dynamic, with its
+    /// velocities, and enabled again if the layer disabled it for this step (unless
+    /// the user made it passive meanwhile). The body, if it still exists.
+    fn give_back<'w>(
+        &self,
+        world: &'w mut WorldMut,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) -> Option<&'w mut rapier3d::dynamics::RigidBody> {
+        let rb = world.bodies.get_mut(self.handle)?;
+        if self.park == Park::Parking && !user_passive(self.handle) {
+            rb.set_enabled(true);
+        }
+        rb.set_body_type(RigidBodyType::Dynamic, true);
+        rb.set_linvel(self.linvel, true);
+        rb.set_angvel(self.angvel, true);
+        Some(rb)
+    }
+}
+
 /// A held body's way out of Rapier's active set. Rapier keeps a body turned fixed in
 /// its active set (its island manager returns early for fixed bodies), where it costs
 /// about 70 times what a sleeping body costs; disabling a body is the one public way
@@ -320,14 +340,7 @@ impl SpeedUpState {
         user_passive: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
         for (_, held) in std::mem::take(&mut self.held) {
-            if let Some(rb) = world.bodies.get_mut(held.handle) {
-                if held.park == Park::Parking && !user_passive(held.handle) {
-                    rb.set_enabled(true);
-                }
-                rb.set_body_type(RigidBodyType::Dynamic, true);
-                rb.set_linvel(held.linvel, true);
-                rb.set_angvel(held.angvel, true);
-            }
+            held.give_back(world, user_passive);
         }
         self.set_modify_flags(world, &[]);
         for (_, (h, original)) in std::mem::take(&mut self.damped) {
@@ -548,13 +561,7 @@ impl SpeedUpState {
                 self.support_dirty = true;
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
-                if let Some(rb) = world.bodies.get_mut(h) {
-                    if held.park == Park::Parking && !user_passive(h) {
-                        rb.set_enabled(true);
-                    }
-                    rb.set_body_type(RigidBodyType::Dynamic, true);
-                    rb.set_linvel(held.linvel, true);
-                    rb.set_angvel(held.angvel, true);
+                if let Some(rb) = held.give_back(world, user_passive) {
                     never_activation(rb.activation_mut());
                 }
                 let r = self.rest_mut(h);
@@ -659,7 +666,7 @@ impl SpeedUpState {
     /// without joints, and whose every collider pair has a fixed partner and neither
     /// touches nor intersects (so that disabling the body for a step changes no
     /// contact, no event and no neighbour). O(active held bodies × their pairs).
-    fn choose_parking(&mut self, graph: &ContactGraph, view: &WorldView) {
+    fn choose_parking(&mut self, view: &WorldView) {
         self.to_park.clear();
         for k in &self.unparked {
             let Some(held) = self.held.get(k) else {
@@ -697,11 +704,7 @@ impl SpeedUpState {
                     .next()
                     .is_none()
             });
-            // The graph agrees: no edge of the body is touching.
-            let untouched = graph
-                .node_of_body(h)
-                .is_some_and(|n| graph.neighbors(n).all(|(_, _, e)| !e.is_touching()));
-            if quiet && untouched {
+            if quiet {
                 self.to_park.push(h);
             }
         }
@@ -952,7 +955,7 @@ impl SpeedUpState {
                 self.evaluate_support(graph, view, up);
             }
             self.newly_held.clear();
-            self.choose_parking(graph, view);
+            self.choose_parking(view);
         }
     }
 
