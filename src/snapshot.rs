@@ -559,6 +559,22 @@ fn check_state(s: &LayerState) -> std::result::Result<(), String> {
         ));
     }
     let g = &s.graph;
+    // The analysis tells "this step" from "an earlier one" by step numbers: one from
+    // the future would make it skip a node or an edge as already done.
+    let step = s.coherence.step();
+    for (n, node) in g.nodes() {
+        if node.seen_step > step || node.born_step > step {
+            return Err(format!("node {n:?} carries a step number from the future"));
+        }
+    }
+    for (e, edge) in g.edges() {
+        if edge.walk_stamp > step || edge.updated_step > step || edge.created_step > step {
+            return Err(format!("edge {e:?} carries a step number from the future"));
+        }
+    }
+    if g.clock > step {
+        return Err("the graph's clock is ahead of the step count".into());
+    }
     g.nodes.check().map_err(|e| format!("node arena: {e}"))?;
     g.edges.check().map_err(|e| format!("edge arena: {e}"))?;
     g.validate().map_err(|e| e.to_string())?;

@@ -66,9 +66,31 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         }
     };
     let rules = layer.rule_table();
-    let screened = |a, b| {
+    // A pair is screened by a passive end, or by a rule that Rapier applied (it asks
+    // the filter hooks only where a collider carries the flag). A rule-screened pair
+    // must then be one Rapier filtered: no contact, no intersection.
+    let screened = |a, b, c1, c2, sensor_pair: bool, active: bool| -> Result<bool> {
         let passive = |n| graph.node(n).is_some_and(|n: &crate::Node| n.is_passive());
-        passive(a) || passive(b) || rules.ignores(a, b)
+        if passive(a) || passive(b) {
+            return Ok(true);
+        }
+        if !rules.ignores(a, b)
+            || !crate::coherence::rule_applied(view, c1, c2, sensor_pair)
+            || crate::coherence::born_now(graph, a)
+            || crate::coherence::born_now(graph, b)
+        {
+            return Ok(false);
+        }
+        if active {
+            let kind = |n| graph.node(n).map(|n: &crate::Node| (n.kind(), n.source()));
+            return fail(format!(
+                "a rule screens the pair {c1:?}–{c2:?} of nodes {a} ({:?})–{b} ({:?}), but \
+                 Rapier collides it (are the layer's hooks given to Rapier's step?)",
+                kind(a),
+                kind(b)
+            ));
+        }
+        Ok(true)
     };
     // Touching tracking keeps touching edges only, each counting its touching collider
     // pairs.
@@ -90,7 +112,17 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             ));
         };
         let (k1, k2) = (graph.try_node(n1)?.kind(), graph.try_node(n2)?.kind());
-        if n1 == n2 || !edge_allowed(EdgeKind::Physical, k1, k2) || screened(n1, n2) {
+        if n1 == n2
+            || !edge_allowed(EdgeKind::Physical, k1, k2)
+            || screened(
+                n1,
+                n2,
+                pair.collider1,
+                pair.collider2,
+                false,
+                pair.has_any_active_contact(),
+            )?
+        {
             continue;
         }
         *rapier_pairs.entry(PairKey::of(n1, n2)).or_insert(false) |= pair.has_any_active_contact();
@@ -160,7 +192,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
                 "trigger pair {c1:?}–{c2:?} has a collider without node"
             ));
         };
-        if screened(t, b) {
+        if screened(t, b, sensor, other, true, intersecting)? {
             continue;
         }
         inside.insert(PairKey::of(t, b), ());
@@ -184,6 +216,42 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
                 key.b()
             ));
         }
+    }
+
+    // Containers against Rapier's joints: one container node per multibody and per
+    // joined component, holding exactly its dynamic bodies.
+    let want = crate::logic::containers::desired(view);
+    let mut containers = 0usize;
+    for (id, n) in graph.nodes() {
+        let crate::NodeSource::Container(source) = n.source() else {
+            continue;
+        };
+        containers += 1;
+        let Some(members) = want.get(&source) else {
+            return fail(format!(
+                "container {id} ({source:?}) stands for no joints in Rapier"
+            ));
+        };
+        let mut have: Vec<(u32, u32)> = graph
+            .neighbors(id)
+            .filter(|(_, _, e)| e.kind() == EdgeKind::Structural)
+            .filter_map(|(m, _, _)| graph.body_of(m))
+            .map(|h| h.into_raw_parts())
+            .collect();
+        have.sort_unstable();
+        let wanted: Vec<(u32, u32)> = members.iter().map(|h| h.into_raw_parts()).collect();
+        if have != wanted {
+            return fail(format!(
+                "container {id} ({source:?}) holds bodies {have:?}, Rapier's joints join \
+                 {wanted:?}"
+            ));
+        }
+    }
+    if containers != want.len() {
+        return fail(format!(
+            "Rapier's joints make {} containers, the graph has {containers}",
+            want.len()
+        ));
     }
 
     // Groups (when computed).

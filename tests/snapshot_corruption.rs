@@ -4,6 +4,10 @@
 //! scene with rules, a timer, a trigger, a passive body and the monitor.
 //! `CORRUPTION_TRIALS=30000 cargo test --test snapshot_corruption -- --nocapture` runs
 //! more and prints the tally.
+//!
+//! Structural corruptions too: the snapshot as a CBOR value tree, one node of it
+//! changed (a number set to an extreme, an element of a sequence or map dropped or
+//! repeated, two siblings swapped), decoded again.
 #![cfg(feature = "serde")]
 
 mod common;
@@ -14,6 +18,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use rapier3d::prelude::*;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::{ContactLayer, Error, LayerSnapshot, Rule};
+
+use ciborium::Value;
 
 use common::audit::xorshift;
 use common::build::*;
@@ -63,8 +69,12 @@ fn try_corruption(bad: &[u8], world_bytes: &[u8]) -> Outcome {
     let Ok(snap) = bincode::deserialize::<LayerSnapshot>(bad) else {
         return Outcome::Undecodable;
     };
+    try_snapshot(&snap, world_bytes)
+}
+
+fn try_snapshot(snap: &LayerSnapshot, world_bytes: &[u8]) -> Outcome {
     let mut world: PhysicsWorld = bincode::deserialize(world_bytes).unwrap();
-    match ContactLayer::restore(&snap, &world) {
+    match ContactLayer::restore(snap, &world) {
         Err(Error::Invariant(_)) | Err(Error::SnapshotMismatch(_)) => Outcome::Refused,
         Err(e) => panic!("unexpected error {e}"),
         Ok(mut layer) => {
@@ -111,6 +121,157 @@ fn corrupted_snapshots_are_refused_or_restore_a_layer_that_validates() {
         *tally.entry(outcome).or_default() += 1;
     }
     println!("{trials} corruptions of {} bytes: {tally:?}", bytes.len());
+    let invalid: Vec<_> = tally
+        .iter()
+        .filter(|(o, _)| matches!(o, Outcome::Invalid(_)))
+        .collect();
+    assert!(invalid.is_empty(), "accepted but invalid: {invalid:?}");
+    assert!(tally.get(&Outcome::Refused).copied().unwrap_or(0) > 0);
+}
+
+/// Every node of a CBOR value tree, by path (indices into arrays and maps).
+fn paths(v: &Value, at: &mut Vec<usize>, out: &mut Vec<Vec<usize>>) {
+    out.push(at.clone());
+    let children: Vec<&Value> = match v {
+        Value::Array(a) => a.iter().collect(),
+        Value::Map(m) => m.iter().map(|(_, v)| v).collect(),
+        Value::Tag(_, v) => vec![&**v],
+        _ => Vec::new(),
+    };
+    for (i, c) in children.into_iter().enumerate() {
+        at.push(i);
+        paths(c, at, out);
+        at.pop();
+    }
+}
+
+fn node_at<'a>(v: &'a mut Value, path: &[usize]) -> &'a mut Value {
+    let Some((&i, rest)) = path.split_first() else {
+        return v;
+    };
+    let child = match v {
+        Value::Array(a) => &mut a[i],
+        Value::Map(m) => &mut m[i].1,
+        Value::Tag(_, v) => &mut **v,
+        _ => unreachable!("paths lead through containers"),
+    };
+    node_at(child, rest)
+}
+
+/// Changes one node of the tree, chosen by `r`: numbers to extremes, sequences and maps
+/// shortened, lengthened or reordered.
+fn mutate(v: &mut Value, r: u64) {
+    let k = (r >> 8) % 6;
+    match v {
+        Value::Integer(i) => {
+            let n: i128 = (*i).into();
+            let to: i128 = match k {
+                0 => 0,
+                1 => u64::MAX.into(),
+                2 => i64::MIN.into(),
+                3 => n.saturating_add(1),
+                4 => n.saturating_mul(1 << 32),
+                _ => -1,
+            };
+            if let Ok(to) = ciborium::value::Integer::try_from(to) {
+                *i = to;
+            }
+        }
+        Value::Float(f) => {
+            *f = [f64::NAN, f64::INFINITY, -*f, 0.0, f64::MAX, 1e-300][k as usize];
+        }
+        Value::Bool(b) => *b = !*b,
+        Value::Array(a) if !a.is_empty() => {
+            let i = (r as usize >> 16) % a.len();
+            match k % 3 {
+                0 => {
+                    a.remove(i);
+                }
+                1 => {
+                    let x = a[i].clone();
+                    a.insert(i, x);
+                }
+                _ => {
+                    let j = (i + 1) % a.len();
+                    a.swap(i, j);
+                }
+            }
+        }
+        Value::Map(m) if !m.is_empty() => {
+            let i = (r as usize >> 16) % m.len();
+            match k % 3 {
+                0 => {
+                    m.remove(i);
+                }
+                1 => {
+                    let x = m[i].clone();
+                    m.insert(i, x);
+                }
+                _ => {
+                    let j = (i + 1) % m.len();
+                    let (a, b) = (m[i].1.clone(), m[j].1.clone());
+                    m[i].1 = b;
+                    m[j].1 = a;
+                }
+            }
+        }
+        _ => *v = Value::Null,
+    }
+}
+
+#[test]
+fn structurally_corrupted_snapshots_are_refused_or_restore_a_layer_that_validates() {
+    let (world, layer) = scene();
+    let world_bytes = bincode::serialize(&world).unwrap();
+    let tree = Value::serialized(&layer.snapshot(&world)).unwrap();
+    let mut all = Vec::new();
+    paths(&tree, &mut Vec::new(), &mut all);
+    let trials: usize = std::env::var("CORRUPTION_TRIALS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(3000);
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut tally: BTreeMap<Outcome, usize> = BTreeMap::new();
+    for t in 0..trials {
+        let mut bad = tree.clone();
+        let path = &all[(xorshift(&mut seed) % all.len() as u64) as usize];
+        mutate(node_at(&mut bad, path), xorshift(&mut seed));
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            match bad.deserialized::<LayerSnapshot>() {
+                Err(_) => Outcome::Undecodable,
+                Ok(snap) => try_snapshot(&snap, &world_bytes),
+            }
+        }))
+        .unwrap_or_else(|_| panic!("structural corruption {t} (node {path:?}) panicked"));
+        if matches!(outcome, Outcome::Invalid(_)) {
+            let mut names = Vec::new();
+            let mut v = &tree;
+            for &i in path.iter() {
+                v = match v {
+                    Value::Array(a) => {
+                        names.push(format!("[{i}]"));
+                        &a[i]
+                    }
+                    Value::Map(m) => {
+                        names.push(format!("{:?}", m[i].0).chars().take(40).collect());
+                        &m[i].1
+                    }
+                    Value::Tag(_, x) => &**x,
+                    _ => v,
+                };
+            }
+            eprintln!(
+                "INVALID {t}: {} -> was {:?}",
+                names.join("."),
+                format!("{v:?}").chars().take(200).collect::<String>()
+            );
+        }
+        *tally.entry(outcome).or_default() += 1;
+    }
+    println!(
+        "{trials} structural corruptions of {} nodes: {tally:?}",
+        all.len()
+    );
     let invalid: Vec<_> = tally
         .iter()
         .filter(|(o, _)| matches!(o, Outcome::Invalid(_)))

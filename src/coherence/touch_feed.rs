@@ -4,8 +4,11 @@
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 
+use rapier3d::dynamics::RigidBodyType;
 use rapier3d::dynamics::{SoftBodySet, SoftBodyTearEvent};
-use rapier3d::geometry::{ColliderSet, CollisionEvent, CollisionEventFlags, ContactPair};
+use rapier3d::geometry::{
+    ActiveCollisionTypes, ColliderSet, CollisionEvent, CollisionEventFlags, ContactPair,
+};
 use rapier3d::math::Real;
 use rapier3d::pipeline::{ActiveEvents, EventHandler};
 use rapier3d::prelude::{ColliderHandle, RigidBodySet};
@@ -148,10 +151,47 @@ impl EventHandler for TouchFeed {
 /// `COLLISION_EVENTS` by the user's doing; every contact-force event, whose flag the
 /// layer never sets). Made by
 /// [`ContactLayer::event_handler_with`](crate::ContactLayer::event_handler_with).
+///
+/// Sensor events: the layer widens sensors' collision types (see
+/// [`ContactLayer::set_trigger_widening`](crate::ContactLayer::set_trigger_widening)),
+/// so Rapier also reports sensor pairs that the user's own types exclude (a sensor on
+/// a fixed body meeting fixed geometry). Such an event is not forwarded: the user
+/// sees a sensor event only when the pair passes the collision types the user gave
+/// the colliders.
 pub struct WithUser<'a, H: ?Sized> {
     pub(crate) feed: &'a TouchFeed,
     pub(crate) flagged: &'a BTreeMap<(u32, u32), ColliderHandle>,
+    pub(crate) widened: &'a std::collections::HashMap<ColliderHandle, ActiveCollisionTypes>,
     pub(crate) user: &'a H,
+}
+
+impl<H: ?Sized> WithUser<'_, H> {
+    /// Whether Rapier pairs the two colliders under the user's own collision types
+    /// (the layer's widening undone). O(1).
+    fn users_types_pass(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> bool {
+        let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
+            return true; // a removed collider: Rapier's own event
+        };
+        let ty = |co: &rapier3d::geometry::Collider| {
+            co.parent()
+                .and_then(|p| bodies.get(p))
+                .map_or(RigidBodyType::Fixed, |rb| rb.body_type())
+        };
+        let (t1, t2) = (ty(co1), ty(co2));
+        let types = |c, co: &rapier3d::geometry::Collider| {
+            self.widened
+                .get(&c)
+                .copied()
+                .unwrap_or(co.active_collision_types())
+        };
+        types(c1, co1).test(t1, t2) || types(c2, co2).test(t1, t2)
+    }
 }
 
 impl<H: EventHandler + ?Sized> EventHandler for WithUser<'_, H> {
@@ -178,6 +218,14 @@ impl<H: EventHandler + ?Sized> EventHandler for WithUser<'_, H> {
         let removed = |c: ColliderHandle| {
             !colliders.contains(c) && !self.flagged.contains_key(&c.into_raw_parts())
         };
+        let sensor = match event {
+            CollisionEvent::Started(_, _, f) | CollisionEvent::Stopped(_, _, f) => {
+                f.contains(CollisionEventFlags::SENSOR)
+            }
+        };
+        if sensor && !self.users_types_pass(bodies, colliders, c1, c2) {
+            return;
+        }
         if users(c1) || users(c2) || removed(c1) || removed(c2) {
             self.user
                 .handle_collision_event(bodies, colliders, event, contact_pair);
@@ -301,7 +349,7 @@ impl Coherence {
                 continue;
             }
             let eid = if ev.started {
-                if !screen.admits(graph, n1, n2) {
+                if !screen.admits_pair(graph, view, (n1, n2), (ev.c1, ev.c2), false) {
                     continue;
                 }
                 match pairs::physical_edge_for(graph, n1, n2, step) {
@@ -358,7 +406,15 @@ impl Coherence {
             ) else {
                 return;
             };
-            if n1 == n2 || !screen.admits(graph, n1, n2) {
+            if n1 == n2
+                || !screen.admits_pair(
+                    graph,
+                    view,
+                    (n1, n2),
+                    (pair.collider1, pair.collider2),
+                    false,
+                )
+            {
                 return;
             }
             if pair.has_any_active_contact() {
@@ -380,18 +436,28 @@ impl Coherence {
                     nodes.push(n);
                 }
             }
-            nodes.sort_unstable();
-            nodes.dedup();
+            // Owners of colliders changed in place; a lookup below may find more
+            // (a cached owner that no longer owns its collider): read those too.
             let mut own = Vec::new();
-            for &n in &nodes {
-                if !colliders_of(graph, view, n, &mut own) {
-                    continue;
-                }
-                for &c in &own {
-                    for pair in view.narrow_phase.contact_pairs_with(c) {
-                        visit(self, graph, pair);
+            let mut next = std::mem::take(&mut self.stale);
+            next.append(&mut nodes);
+            while !next.is_empty() {
+                next.sort_unstable();
+                next.dedup();
+                next.retain(|n| nodes.binary_search(n).is_err());
+                for &n in &next {
+                    if !colliders_of(graph, view, n, &mut own) {
+                        continue;
+                    }
+                    for &c in &own {
+                        for pair in view.narrow_phase.contact_pairs_with(c) {
+                            visit(self, graph, pair);
+                        }
                     }
                 }
+                nodes.append(&mut next);
+                nodes.sort_unstable();
+                next = std::mem::take(&mut self.stale);
             }
         }
         // The edges to set: every physical edge with `all`, else those of the nodes

@@ -85,6 +85,9 @@ impl Coherence {
             self.trigger_states.remove(&t);
         }
         for t in changed {
+            if let Some(NodeSource::Sensor(c)) = graph.node(t).map(|n| n.source) {
+                let _ = nodes::ensure_trigger_node(graph, view, c, &mut self.created);
+            }
             self.walk_trigger(graph, view, screen, t);
         }
     }
@@ -145,7 +148,11 @@ impl Coherence {
         let Some(b) = self.owner_of(graph, view, body_collider) else {
             return;
         };
-        if !screen.admits(graph, t, b) {
+        let sensor = match graph.node(t).map(|n| n.source) {
+            Some(NodeSource::Sensor(c)) => c,
+            _ => return,
+        };
+        if !screen.admits_pair(graph, view, (t, b), (sensor, body_collider), true) {
             return;
         }
         let Some(eid) = graph.ensure_edge(t, b, EdgeKind::Geometric, step) else {

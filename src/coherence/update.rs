@@ -55,6 +55,25 @@ impl Coherence {
             VERIFY_PER_STEP,
         ) {
             if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
+                // A cached owner that no longer owns the collider (moved in place
+                // while nothing that would notice was refreshed): read both again.
+                let (_, gen) = h.into_raw_parts();
+                if let Some(Owner::Node(g, n)) = self.owners.get(i as usize).copied() {
+                    let owned = graph
+                        .node(n)
+                        .is_some_and(|node| nodes::owns(view, h, node.source));
+                    if g == gen && !owned {
+                        self.owners[i as usize] = Owner::Unknown;
+                        if graph.contains_node(n) {
+                            self.owner_moved(n);
+                        }
+                        if let Some(now) =
+                            nodes::ensure_collider_owner(graph, view, h, &mut self.created)
+                        {
+                            self.owner_moved(now);
+                        }
+                    }
+                }
                 if c.is_sensor() {
                     nodes::ensure_trigger_node(graph, view, h, &mut self.created);
                 } else if c.parent().is_none() {
@@ -152,12 +171,20 @@ impl Coherence {
 
         // 1. Node upkeep.
         self.pending_triggers.clear();
-        let requested = self.force_full_sync;
         let counts_changed = self.known_bodies != Some(view.bodies.len())
             || self.known_colliders != view.colliders.len();
+        // Another world with the same counts (one layer stepping two worlds) is read
+        // in full, as after `request_full_sync`.
+        if !self.same_world(view) && !counts_changed {
+            self.force_full_sync = true;
+        }
+        let requested = self.force_full_sync;
         let mut resized = Vec::new();
         if counts_changed || requested {
             self.force_full_sync = false;
+            // The lookup caches may name colliders that changed owner or slot.
+            self.owners.clear();
+            self.pair_slots.clear();
             let gone = nodes::full_sync(graph, view, &mut self.created, &mut resized);
             for id in gone {
                 self.remove_node(graph, groups, id);
@@ -195,6 +222,15 @@ impl Coherence {
         let prev = std::mem::take(&mut self.awake_prev);
         for &id in prev.iter().chain(screen.force.iter()).chain(resized.iter()) {
             self.refresh_node(graph, groups, view, id);
+        }
+        // Owners of colliders changed in place (found by a refresh above, the
+        // round-robin check or the last update's lookups): their pairs are read again,
+        // until no refresh finds another. Under touching tracking their touching pairs
+        // are counted again instead (below).
+        if touch.is_none() {
+            while let Some(id) = self.stale.pop() {
+                self.refresh_node(graph, groups, view, id);
+            }
         }
         // Nodes created this step are refreshed once whatever their state: a body
         // Rapier put to sleep in its very first step (a huge dt), or new static
@@ -249,8 +285,9 @@ impl Coherence {
             self.apply_touch_events(graph, groups, view, screen, events);
             let late = std::mem::take(&mut self.touch_rescan);
             if requested || switched {
+                self.stale.clear();
                 self.rescan_touching(graph, groups, view, screen, &[], true);
-            } else if !late.is_empty() {
+            } else if !late.is_empty() || !self.stale.is_empty() {
                 self.rescan_touching(graph, groups, view, screen, &late, false);
             }
             self.counters.bodies = walk.len();
@@ -434,10 +471,18 @@ impl Coherence {
             rb.position().translation.is_finite() && rb.position().rotation.is_finite()
         });
         let enabled = rb.is_some_and(|rb| rb.is_enabled());
+        let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
+        let resigned = graph
+            .node(id)
+            .is_some_and(|n| n.seen_step != step && n.collider_sig != 0 && n.collider_sig != sig);
+        if resigned {
+            self.colliders_moved(graph, view, id, h);
+        }
         if let Some(n) = graph.node_mut(id) {
             if n.seen_step == step {
                 return;
             }
+            n.collider_sig = sig;
             let was_passive = n.passive;
             n.seen_step = step;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
@@ -513,9 +558,29 @@ impl Coherence {
         collider: ColliderHandle,
     ) -> Option<NodeId> {
         let (i, gen) = collider.into_raw_parts();
-        match self.owners.get(i as usize) {
-            Some(Owner::Node(g, n)) if *g == gen && graph.contains_node(*n) => return Some(*n),
-            Some(Owner::Nobody(g)) if *g == gen => return None,
+        match self.owners.get(i as usize).copied() {
+            Some(Owner::Node(g, n)) if g == gen => match graph.node(n) {
+                // A body refreshed this step had its collider list checked: an entry
+                // naming it is current. Other owners are checked against Rapier.
+                Some(node)
+                    if (node.seen_step == self.step
+                        && matches!(node.source, NodeSource::Body(_)))
+                        || nodes::owns(view, collider, node.source) =>
+                {
+                    return Some(n)
+                }
+                Some(_) => self.owner_moved(n),
+                None => {}
+            },
+            Some(Owner::Nobody(g)) if g == gen => {
+                if view
+                    .colliders
+                    .get(collider)
+                    .is_none_or(|c| c.parent().is_none() && c.is_sensor())
+                {
+                    return None;
+                }
+            }
             _ => {}
         }
         let owner = nodes::ensure_collider_owner(graph, view, collider, &mut self.created);
@@ -528,5 +593,63 @@ impl Coherence {
             None => Owner::Unknown,
         };
         owner
+    }
+
+    /// A collider left `old` in place (found when its cached owner no longer owns it):
+    /// `old` is read again at the next update. The new owner is read from the pairs,
+    /// or found by its own collider list. O(1).
+    pub(super) fn owner_moved(&mut self, old: NodeId) {
+        if !self.stale.contains(&old) {
+            self.stale.push(old);
+        }
+    }
+
+    /// A body's collider list changed since its last refresh (a collider moved to or
+    /// from it, or swapped for another): the owners its colliders had in the cache
+    /// and the body itself are read again, and the lookup caches are dropped (they are
+    /// rebuilt on use). O(its colliders) plus the cost of rebuilding the caches, on
+    /// such a change only.
+    fn colliders_moved(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        id: NodeId,
+        h: RigidBodyHandle,
+    ) {
+        if let Some(rb) = view.bodies.get(h) {
+            for &c in rb.colliders() {
+                let (i, gen) = c.into_raw_parts();
+                if let Some(Owner::Node(g, n)) = self.owners.get(i as usize).copied() {
+                    if g == gen && n != id && graph.contains_node(n) {
+                        self.owner_moved(n);
+                    }
+                }
+            }
+        }
+        self.owner_moved(id);
+        self.owners.clear();
+        self.pair_slots.clear();
+    }
+
+    /// Whether the world is the one of the last update, as far as an O(1) look tells:
+    /// the addresses of the first stored body and collider. Rapier's sets keep them
+    /// until they grow (which changes their counts, a full scan anyway) or their first
+    /// slot is emptied, so a change means another world or a changed first slot; both
+    /// are read in full. Moving a `PhysicsWorld` value does not move them.
+    fn same_world(&mut self, view: &WorldView) -> bool {
+        let first_body = view
+            .bodies
+            .iter()
+            .next()
+            .map_or(0, |(_, b)| b as *const _ as usize);
+        let first_collider = view
+            .colliders
+            .iter()
+            .next()
+            .map_or(0, |(_, c)| c as *const _ as usize);
+        let mark = Some((first_body, first_collider));
+        let same = self.world_mark.is_none() || *self.world_mark == mark;
+        *self.world_mark = mark;
+        same
     }
 }

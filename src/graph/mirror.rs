@@ -62,10 +62,39 @@ pub(crate) fn ensure_body_node(
             let id = graph.add_node(kind, NodeSource::Body(handle));
             if let Some(n) = graph.node_mut(id) {
                 n.collider_count = rb.colliders().len() as u32;
+                n.collider_sig = colliders_sig(rb.colliders());
             }
             created.push(id);
             Some(id)
         }
+    }
+}
+
+/// A signature of a body's collider list (handles and order), never 0: a body that
+/// gained and lost colliders, or had one moved to or from it with
+/// `ColliderSet::set_parent`, shows a different one even when its collider count is
+/// the same. O(its colliders).
+pub(crate) fn colliders_sig(colliders: &[ColliderHandle]) -> u64 {
+    let mut h = 0x9E37_79B9_7F4A_7C15_u64 ^ colliders.len() as u64;
+    for c in colliders {
+        let (i, g) = c.into_raw_parts();
+        h = (h ^ ((u64::from(i) << 32) | u64::from(g)))
+            .wrapping_mul(0x0000_0100_0000_01B3)
+            .rotate_left(23);
+    }
+    h | 1
+}
+
+/// Whether a collider still belongs to the node standing for `source` (its parent
+/// body's, or its own as static geometry). O(1).
+pub(crate) fn owns(view: &WorldView, collider: ColliderHandle, source: NodeSource) -> bool {
+    let Some(c) = view.colliders.get(collider) else {
+        return false;
+    };
+    match source {
+        NodeSource::Body(h) => c.parent() == Some(h),
+        NodeSource::StaticCollider(h) => h == collider && c.parent().is_none() && !c.is_sensor(),
+        _ => false,
     }
 }
 
@@ -103,7 +132,13 @@ pub(crate) fn ensure_trigger_node(
         return None;
     }
     Some(match graph.node_of_sensor(collider) {
-        Some(id) => id,
+        Some(id) => {
+            // The sensor may have been moved to another body in place.
+            if let Some(n) = graph.node_mut(id).filter(|n| n.carrier != c.parent()) {
+                n.carrier = c.parent();
+            }
+            id
+        }
         None => {
             let id = graph.add_node(NodeKind::Trigger, NodeSource::Sensor(collider));
             if let Some(n) = graph.node_mut(id) {
@@ -146,11 +181,13 @@ pub(crate) fn full_sync(
             continue;
         };
         let count = rb.colliders().len() as u32;
+        let sig = colliders_sig(rb.colliders());
         if let Some(n) = graph.node_mut(id) {
-            if n.collider_count != count {
+            if n.collider_count != count || (n.collider_sig != 0 && n.collider_sig != sig) {
                 n.collider_count = count;
                 resized.push(id);
             }
+            n.collider_sig = sig;
         }
     }
     for (h, c) in view.colliders.iter() {

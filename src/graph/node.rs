@@ -147,6 +147,10 @@ pub struct Node {
     /// For a body: its number of colliders at the last full scan (a change refreshes
     /// the body: a fixed body losing or gaining a collider is otherwise never read).
     pub(crate) collider_count: u32,
+    /// For a body: the signature of its collider list when last refreshed
+    /// ([`crate::graph::mirror::colliders_sig`]; 0: not known yet).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) collider_sig: u64,
 }
 
 impl Node {
@@ -165,6 +169,7 @@ impl Node {
             carrier: None,
             reported_awake: None,
             collider_count: 0,
+            collider_sig: 0,
         }
     }
 

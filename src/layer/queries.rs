@@ -145,6 +145,7 @@ impl ContactLayer {
         crate::coherence::WithUser {
             feed: &self.touch_feed,
             flagged: self.coherence.touch_flagged(),
+            widened: self.logic.widened(),
             user,
         }
     }
@@ -162,7 +163,11 @@ impl ContactLayer {
     /// *sleeping, fixed or passive* body, or static geometry, in place in a way Rapier
     /// does not wake it for (its type, moving a fixed body or a parentless collider, a
     /// sensor flag); adding and removing bodies and colliders is detected, and so is a
-    /// moved trigger. That update costs O(nodes + pairs).
+    /// moved trigger. A collider moved to another body (`ColliderSet::set_parent`) or
+    /// swapped for another is followed without it when Rapier wakes either side (a
+    /// dynamic body); between fixed or sleeping bodies, within `colliders / 32` steps,
+    /// or at once with it. It also drops the layer's lookup caches. That update costs
+    /// O(nodes + pairs).
     pub fn request_full_sync(&mut self) {
         self.coherence.request_full_sync();
     }

@@ -77,6 +77,42 @@ impl ContactLayer {
         }
     }
 
+    /// Gives the world back as the user left it, and drops the layer. Everything the
+    /// layer changed in the world is undone at once, and nothing else:
+    /// - the speed-ups' held bodies are dynamic again with their velocities; the
+    ///   dampings, sleep thresholds and solver parameters (iterations, contact
+    ///   recycling, warm start) are the user's own again;
+    /// - the monitor's changes are undone (as when it is switched off);
+    /// - the flags the layer added (rule hooks, `MODIFY_SOLVER_CONTACTS`,
+    ///   `COLLISION_EVENTS`) are taken off: only those bits, so flags the user set
+    ///   since stay; sensors' collision types are the user's again where they are
+    ///   still as the layer set them;
+    /// - bodies made passive are enabled again, with the joints held disabled for
+    ///   them.
+    ///
+    /// What the simulation did meanwhile (poses, velocities, sleep, a monitor's
+    /// repairs) stays: it is the world's state, not a setting. Tested by recording
+    /// every collider's and body's settings before attaching, running rules, triggers,
+    /// every speed-up and the monitor, and comparing after `detach`
+    /// (`tests/detach_restores_the_world.rs`). O(bodies + colliders).
+    pub fn detach(mut self, mut world: WorldMut) {
+        if let Some(s) = &mut self.speedups {
+            s.detach();
+            let passive = &self.logic.passive;
+            s.pre_step(&mut world, &mut self.logic.hooks.mods, &|h| {
+                passive.contains_key(&h.into_raw_parts())
+            });
+        }
+        if let Some(mut m) = self.monitor_restore.take() {
+            m.restore(&mut world);
+        }
+        if let Some(mut m) = self.monitor.take() {
+            m.restore(&mut world);
+        }
+        self.coherence.sync_touch_flags(world.colliders, false);
+        self.logic.release(&self.graph, &mut world);
+    }
+
     /// The post-step analysis alone, for users who step Rapier themselves (their own
     /// `PhysicsPipeline::step` or `PhysicsWorld::step_with_events`). Call it once after
     /// every step.

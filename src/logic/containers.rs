@@ -88,69 +88,7 @@ impl Containers {
         }
         self.signature = Some(signature);
 
-        let simulated = |h: RigidBodyHandle| view.bodies.get(h).is_some_and(|b| b.is_dynamic());
-        let mut desired: BTreeMap<ContainerSource, Vec<RigidBodyHandle>> = BTreeMap::new();
-
-        // Rapier multibodies.
-        for mb in view.multibody_joints.multibodies() {
-            let root = mb.root().rigid_body_handle();
-            let mut members: Vec<RigidBodyHandle> = mb
-                .links()
-                .map(|l| l.rigid_body_handle())
-                .filter(|&h| simulated(h))
-                .collect();
-            members.sort_by_key(|h| handle_key(*h));
-            if !members.is_empty() {
-                desired.insert(ContainerSource::Multibody(root), members);
-            }
-        }
-
-        // Impulse-joint components of simulated bodies.
-        let mut ids: BTreeMap<(u32, u32), usize> = BTreeMap::new();
-        let mut handles: Vec<RigidBodyHandle> = Vec::new();
-        let mut joints: Vec<(usize, usize, bool)> = Vec::new();
-        for (_, j) in view.impulse_joints.iter() {
-            let (b1, b2) = (j.body1(), j.body2());
-            if !simulated(b1) || !simulated(b2) || b1 == b2 {
-                continue;
-            }
-            let mut id = |h: RigidBodyHandle| {
-                *ids.entry(handle_key(h)).or_insert_with(|| {
-                    handles.push(h);
-                    handles.len() - 1
-                })
-            };
-            let (i1, i2) = (id(b1), id(b2));
-            let fixed = j.data.locked_axes == JointAxesMask::LOCKED_FIXED_AXES;
-            joints.push((i1, i2, fixed));
-        }
-        let mut parent: Vec<usize> = (0..handles.len()).collect();
-        for &(i1, i2, _) in &joints {
-            let (r1, r2) = (find(&mut parent, i1), find(&mut parent, i2));
-            if r1 != r2 {
-                parent[r1.max(r2)] = r1.min(r2);
-            }
-        }
-        let mut all_fixed: BTreeMap<usize, bool> = BTreeMap::new();
-        for &(i1, _, fixed) in &joints {
-            let r = find(&mut parent, i1);
-            *all_fixed.entry(r).or_insert(true) &= fixed;
-        }
-        let mut comps: BTreeMap<usize, Vec<RigidBodyHandle>> = BTreeMap::new();
-        for (i, &h) in handles.iter().enumerate() {
-            let r = find(&mut parent, i);
-            comps.entry(r).or_default().push(h);
-        }
-        for (r, mut members) in comps {
-            members.sort_by_key(|h| handle_key(*h));
-            let key = members[0];
-            let source = if all_fixed.get(&r).copied().unwrap_or(false) {
-                ContainerSource::Composite(key)
-            } else {
-                ContainerSource::Articulation(key)
-            };
-            desired.insert(source, members);
-        }
+        let desired = desired(view);
 
         let mut changed = Vec::new();
         // Remove containers that are gone.
@@ -210,4 +148,74 @@ impl Containers {
         changed.dedup();
         changed
     }
+}
+
+/// The containers Rapier's joints make (see the module docs), each with its member
+/// bodies sorted by handle: what [`Containers::sync`] brings the graph to, and what
+/// `validate()` checks the graph against. O(joints + links).
+pub(crate) fn desired(view: &WorldView) -> BTreeMap<ContainerSource, Vec<RigidBodyHandle>> {
+    let simulated = |h: RigidBodyHandle| view.bodies.get(h).is_some_and(|b| b.is_dynamic());
+    let mut desired: BTreeMap<ContainerSource, Vec<RigidBodyHandle>> = BTreeMap::new();
+
+    // Rapier multibodies.
+    for mb in view.multibody_joints.multibodies() {
+        let root = mb.root().rigid_body_handle();
+        let mut members: Vec<RigidBodyHandle> = mb
+            .links()
+            .map(|l| l.rigid_body_handle())
+            .filter(|&h| simulated(h))
+            .collect();
+        members.sort_by_key(|h| handle_key(*h));
+        if !members.is_empty() {
+            desired.insert(ContainerSource::Multibody(root), members);
+        }
+    }
+
+    // Impulse-joint components of simulated bodies.
+    let mut ids: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    let mut handles: Vec<RigidBodyHandle> = Vec::new();
+    let mut joints: Vec<(usize, usize, bool)> = Vec::new();
+    for (_, j) in view.impulse_joints.iter() {
+        let (b1, b2) = (j.body1(), j.body2());
+        if !simulated(b1) || !simulated(b2) || b1 == b2 {
+            continue;
+        }
+        let mut id = |h: RigidBodyHandle| {
+            *ids.entry(handle_key(h)).or_insert_with(|| {
+                handles.push(h);
+                handles.len() - 1
+            })
+        };
+        let (i1, i2) = (id(b1), id(b2));
+        let fixed = j.data.locked_axes == JointAxesMask::LOCKED_FIXED_AXES;
+        joints.push((i1, i2, fixed));
+    }
+    let mut parent: Vec<usize> = (0..handles.len()).collect();
+    for &(i1, i2, _) in &joints {
+        let (r1, r2) = (find(&mut parent, i1), find(&mut parent, i2));
+        if r1 != r2 {
+            parent[r1.max(r2)] = r1.min(r2);
+        }
+    }
+    let mut all_fixed: BTreeMap<usize, bool> = BTreeMap::new();
+    for &(i1, _, fixed) in &joints {
+        let r = find(&mut parent, i1);
+        *all_fixed.entry(r).or_insert(true) &= fixed;
+    }
+    let mut comps: BTreeMap<usize, Vec<RigidBodyHandle>> = BTreeMap::new();
+    for (i, &h) in handles.iter().enumerate() {
+        let r = find(&mut parent, i);
+        comps.entry(r).or_default().push(h);
+    }
+    for (r, mut members) in comps {
+        members.sort_by_key(|h| handle_key(*h));
+        let key = members[0];
+        let source = if all_fixed.get(&r).copied().unwrap_or(false) {
+            ContainerSource::Composite(key)
+        } else {
+            ContainerSource::Articulation(key)
+        };
+        desired.insert(source, members);
+    }
+    desired
 }

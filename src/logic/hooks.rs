@@ -106,9 +106,12 @@ impl<'a> HooksView<'a> {
         if ctx.colliders.get(collider).is_some_and(|c| c.is_sensor()) {
             return self.graph.node_of_sensor(collider);
         }
-        self.graph
-            .node_of_static_collider(collider)
-            .or_else(|| body.and_then(|b| self.graph.node_of_body(b)))
+        // Rapier's parent, not the graph's last view: a collider moved in place
+        // (`set_parent`) since the last analysis belongs to its new body already.
+        match body {
+            Some(b) => self.graph.node_of_body(b),
+            None => self.graph.node_of_static_collider(collider),
+        }
     }
 
     fn ignores(&self, ctx: &PairFilterContext) -> bool {

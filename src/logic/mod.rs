@@ -128,6 +128,9 @@ pub(crate) struct Logic {
     /// Sensors we widened, with the collision types they had before.
     #[cfg_attr(feature = "serde", serde(with = "crate::util::serde_maps::sorted_map"))]
     widened: HashMap<ColliderHandle, ActiveCollisionTypes>,
+    /// The signature of the colliders the rules flagged (see `pre_step`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    flagged_sig: u64,
     pub(crate) widen_sensors: bool,
     pub(crate) timers: timers::Timers,
     pub(crate) containers: containers::Containers,
@@ -233,7 +236,21 @@ impl Logic {
         colliders_changed: bool,
         new_nodes: &[NodeId],
     ) {
-        if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) {
+        // The members' colliders, when rules exist: a member that gained one collider
+        // and lost another (the count unchanged), or had one moved to it in place,
+        // shows a new signature. O(rule members + their colliders · log) per step
+        // with rules, O(1) without.
+        let need = if self.rules.is_empty() {
+            Vec::new()
+        } else {
+            self.colliders_needing_flags(graph, world.bodies)
+        };
+        let need_sig = crate::graph::mirror::colliders_sig(&need);
+        let members_changed = need_sig != self.flagged_sig;
+        if self.rules_dirty || colliders_changed || members_changed {
+            self.flagged_sig = need_sig;
+        }
+        if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) || members_changed {
             self.rules_dirty = false;
             self.rebuild_table();
             let need = self.colliders_needing_flags(graph, world.bodies);
@@ -246,9 +263,7 @@ impl Logic {
                     .is_err()
                 {
                     let original = self.flagged.remove(&c).unwrap_or(ActiveHooks::empty());
-                    if let Some(col) = world.colliders.get_mut(c) {
-                        col.set_active_hooks(original);
-                    }
+                    unflag(world.colliders, c, original);
                 }
             }
             for c in need {
@@ -258,6 +273,9 @@ impl Logic {
                     if flags != col.active_hooks() {
                         col.set_active_hooks(flags);
                     }
+                    // Rapier re-evaluates the pairs only if asked (a resting pair or
+                    // a fixed member's would keep its contact), on every rule change.
+                    crate::util::rapier::reevaluate_pairs(col);
                 }
             }
             // A rule must act on resting pairs too: wake the bodies it concerns.
@@ -283,16 +301,26 @@ impl Logic {
         // collider turned into a sensor in place (no count change) is widened once the
         // analysis has made its trigger node.
         if self.widen_sensors && colliders_changed {
-            for (c, col) in world.colliders.iter_mut() {
-                if col.is_sensor() && !self.widened.contains_key(&c) {
-                    self.widened.insert(c, col.active_collision_types());
-                    col.set_active_collision_types(ActiveCollisionTypes::all());
-                    // Its intersections change in Rapier's step: the trigger (if it has
-                    // a node already) is read at the next analysis, even if nothing
-                    // that carries or meets it is refreshed.
-                    if let Some(t) = graph.node_of_sensor(c) {
-                        self.force.push(t);
-                    }
+            // Read first: `ColliderSet::get_mut` (and `iter_mut`) marks a collider
+            // modified for Rapier's step, so only the sensors to widen are written.
+            let todo: Vec<ColliderHandle> = world
+                .colliders
+                .iter()
+                .filter(|(c, col)| col.is_sensor() && !self.widened.contains_key(c))
+                .map(|(c, _)| c)
+                .collect();
+            for c in todo {
+                let Some(col) = world.colliders.get_mut(c) else {
+                    continue;
+                };
+                self.widened.insert(c, col.active_collision_types());
+                col.set_active_collision_types(ActiveCollisionTypes::all());
+                crate::util::rapier::reevaluate_pairs(col);
+                // Its intersections change in Rapier's step: the trigger (if it has
+                // a node already) is read at the next analysis, even if nothing
+                // that carries or meets it is refreshed.
+                if let Some(t) = graph.node_of_sensor(c) {
+                    self.force.push(t);
                 }
             }
         }
@@ -304,15 +332,79 @@ impl Logic {
                 if self.widened.contains_key(&c) {
                     continue;
                 }
-                if let Some(col) = world.colliders.get_mut(c).filter(|c| c.is_sensor()) {
-                    self.widened.insert(c, col.active_collision_types());
-                    if col.active_collision_types() != ActiveCollisionTypes::all() {
+                let Some(types) = world
+                    .colliders
+                    .get(c)
+                    .filter(|c| c.is_sensor())
+                    .map(|c| c.active_collision_types())
+                else {
+                    continue;
+                };
+                self.widened.insert(c, types);
+                if types != ActiveCollisionTypes::all() {
+                    if let Some(col) = world.colliders.get_mut(c) {
                         col.set_active_collision_types(ActiveCollisionTypes::all());
-                        self.force.push(t);
+                        crate::util::rapier::reevaluate_pairs(col);
                     }
+                    self.force.push(t);
                 }
             }
         }
+        if !self.widened.is_empty() {
+            self.unwiden(graph, world.colliders, !self.widen_sensors);
+        }
+    }
+
+    /// Gives widened colliders their collision types back where the widening no longer
+    /// applies: widening switched off, the collider turned solid in place, or gone.
+    /// Types the user changed since are the user's: left as they are. O(widened
+    /// sensors) per step while some are widened.
+    fn unwiden(&mut self, graph: &ContactGraph, colliders: &mut ColliderSet, all: bool) {
+        let mut done: Vec<ColliderHandle> = self
+            .widened
+            .keys()
+            .copied()
+            .filter(|&c| all || colliders.get(c).is_none_or(|col| !col.is_sensor()))
+            .collect();
+        done.sort_by_key(|c| c.into_raw_parts());
+        for c in done {
+            let Some(original) = self.widened.remove(&c) else {
+                continue;
+            };
+            let ours = colliders
+                .get(c)
+                .is_some_and(|col| col.active_collision_types() == ActiveCollisionTypes::all());
+            if let Some(col) = colliders.get_mut(c).filter(|_| ours) {
+                col.set_active_collision_types(original);
+                crate::util::rapier::reevaluate_pairs(col);
+                // Its intersections change in Rapier's step: read it again after.
+                if let Some(t) = graph.node_of_sensor(c) {
+                    self.force.push(t);
+                }
+            }
+        }
+    }
+
+    /// Undoes everything the logic layer changed in the world, at once: the rules'
+    /// hook flags (only the bits the layer added), the sensors' collision types (where
+    /// still as the layer set them), the passive bodies (enabled again) and the joints
+    /// held disabled for them (enabled again). Rules, timers and containers stay
+    /// defined; the next pre-step would apply them again. O(flagged colliders +
+    /// widened sensors + passive bodies + held joints).
+    pub(crate) fn release(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
+        let mut had: Vec<(ColliderHandle, ActiveHooks)> = self.flagged.drain().collect();
+        had.sort_by_key(|(c, _)| c.into_raw_parts());
+        for (c, original) in had {
+            unflag(world.colliders, c, original);
+        }
+        self.flagged_sig = 0;
+        self.rules_dirty = true;
+        self.unwiden(graph, world.colliders, true);
+        let passive: Vec<RigidBodyHandle> = self.passive.values().copied().collect();
+        for h in passive {
+            self.passive_queue.push((h, false));
+        }
+        self.apply_passive(graph, world);
     }
 
     /// Applies the queued passive changes, then guards the passive bodies against what
@@ -444,8 +536,26 @@ impl Logic {
         self.scratch_joints = joints;
     }
 
-    /// Whether any collider carries a flag set by the layer.
+    /// The sensors the layer widened, with the collision types the user gave them.
+    pub(crate) fn widened(&self) -> &HashMap<ColliderHandle, ActiveCollisionTypes> {
+        &self.widened
+    }
+
+    /// Whether any collider carries a flag set by the layer (rules).
     pub(crate) fn flagged_colliders(&self) -> usize {
         self.flagged.len()
+    }
+}
+
+/// Takes the rule flags off a collider: only the bits the layer added (those it did
+/// not have before), so flags the user set since stay. O(1).
+fn unflag(colliders: &mut ColliderSet, c: ColliderHandle, original: ActiveHooks) {
+    let added = RULE_HOOKS - original;
+    let now = colliders.get(c).map(|col| col.active_hooks());
+    if let Some(now) = now.filter(|now| now.intersects(added)) {
+        if let Some(col) = colliders.get_mut(c) {
+            col.set_active_hooks(now - added);
+            crate::util::rapier::reevaluate_pairs(col);
+        }
     }
 }

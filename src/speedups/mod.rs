@@ -257,6 +257,14 @@ pub struct SpeedUpState {
     stats: SpeedUpStats,
     /// Bodies whose sleepy state changed in the last tracking (subgrouping regroups them).
     pub(crate) sleepy_changed: Vec<RigidBodyHandle>,
+    /// The sleep thresholds of each body before the speed-ups first changed them
+    /// (see [`remember_activation`]): restored as they were.
+    #[cfg_attr(feature = "serde", serde(default))]
+    activations: BTreeMap<(u32, u32), (RigidBodyHandle, [f32; 3])>,
+    /// The user's solver iterations, contact recycling and warm-start coefficient
+    /// when the speed-ups started: restored as they were.
+    #[cfg_attr(feature = "serde", serde(default))]
+    user_params: Option<(usize, bool, f32)>,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,
@@ -272,6 +280,23 @@ fn eligible_activation(a: &mut RigidBodyActivation, dt: f32) {
     // Two steps: a body woken by Rapier (timer reset) cannot fall asleep again in the
     // same step, before the layer has seen it wake.
     a.time_until_sleep = 2.0 * dt;
+}
+
+/// Records a body's sleep thresholds before the speed-ups first change them. O(log n).
+fn remember_activation(
+    saved: &mut BTreeMap<(u32, u32), (RigidBodyHandle, [f32; 3])>,
+    h: RigidBodyHandle,
+    rb: &rapier3d::dynamics::RigidBody,
+) {
+    let a = rb.activation();
+    saved.entry(key(h)).or_insert((
+        h,
+        [
+            a.normalized_linear_threshold,
+            a.angular_threshold,
+            a.time_until_sleep,
+        ],
+    ));
 }
 
 fn never_activation(a: &mut RigidBodyActivation) {
@@ -304,6 +329,8 @@ impl SpeedUpState {
             flagged: BTreeMap::new(),
             zero_flags: Vec::new(),
             damped: BTreeMap::new(),
+            activations: BTreeMap::new(),
+            user_params: None,
             stats: SpeedUpStats::default(),
             sleepy_changed: Vec::new(),
             detached: false,
@@ -348,24 +375,21 @@ impl SpeedUpState {
                 rb.set_linear_damping(original);
             }
         }
-        let dynamic: Vec<RigidBodyHandle> = world
-            .bodies
-            .iter()
-            .filter(|(_, b)| b.is_dynamic())
-            .map(|(h, _)| h)
-            .collect();
-        for h in dynamic {
-            let a = world.bodies[h].activation_mut();
-            let fresh = RigidBodyActivation::active();
-            a.normalized_linear_threshold = fresh.normalized_linear_threshold;
-            a.angular_threshold = fresh.angular_threshold;
-            a.time_until_sleep = fresh.time_until_sleep;
+        // The user's own sleep thresholds and solver parameters, as they were.
+        for (_, (h, [linear, angular, time])) in std::mem::take(&mut self.activations) {
+            if let Some(rb) = world.bodies.get_mut(h) {
+                let a = rb.activation_mut();
+                a.normalized_linear_threshold = linear;
+                a.angular_threshold = angular;
+                a.time_until_sleep = time;
+            }
         }
-        let d = rapier3d::prelude::IntegrationParameters::default();
-        let p = &mut *world.integration_parameters;
-        p.num_solver_iterations = d.num_solver_iterations;
-        p.contact_recycling = d.contact_recycling;
-        p.warmstart_coefficient = d.warmstart_coefficient;
+        if let Some((iterations, recycling, warmstart)) = self.user_params.take() {
+            let p = &mut *world.integration_parameters;
+            p.num_solver_iterations = iterations;
+            p.contact_recycling = recycling;
+            p.warmstart_coefficient = warmstart;
+        }
         mods.reduce_depth = None;
         mods.zero = false;
         mods.sleepy.clear();
@@ -448,6 +472,13 @@ impl SpeedUpState {
         let c = self.config.clone();
         let dt = world.integration_parameters.dt;
         let params = &mut *world.integration_parameters;
+        if self.user_params.is_none() {
+            self.user_params = Some((
+                params.num_solver_iterations,
+                params.contact_recycling,
+                params.warmstart_coefficient,
+            ));
+        }
         // The monitor's repair of a contact going deep: the solver at full strength
         // for a while (no tweak, no reduce, warm start and recycling on, twice the
         // iterations).
@@ -471,6 +502,8 @@ impl SpeedUpState {
             self.dirty = false;
             self.known_bodies = world.bodies.len();
             self.known_colliders = world.colliders.len();
+            let bodies = &*world.bodies;
+            self.activations.retain(|_, (h, _)| bodies.contains(*h));
             let mut dynamic: Vec<RigidBodyHandle> = world
                 .bodies
                 .iter()
@@ -483,6 +516,7 @@ impl SpeedUpState {
                 let rb = &mut world.bodies[h];
                 // The layer owns sleeping: never eligible unless it says so.
                 if !eligible {
+                    remember_activation(&mut self.activations, h, rb);
                     never_activation(rb.activation_mut());
                 }
                 if c.damp {
@@ -535,6 +569,7 @@ impl SpeedUpState {
         for (h, eligible) in std::mem::take(&mut self.eligibility) {
             if let Some(rb) = world.bodies.get_mut(h) {
                 if rb.is_dynamic() {
+                    remember_activation(&mut self.activations, h, rb);
                     if eligible {
                         eligible_activation(rb.activation_mut(), dt);
                     } else {
@@ -562,6 +597,7 @@ impl SpeedUpState {
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
                 if let Some(rb) = held.give_back(world, user_passive) {
+                    remember_activation(&mut self.activations, h, rb);
                     never_activation(rb.activation_mut());
                 }
                 let r = self.rest_mut(h);

@@ -188,6 +188,71 @@ impl Harness {
                     }
                 }
             }
+            Op::SetParent(i, to) => {
+                let parent = to.and_then(|b| self.body(b));
+                if let Some(c) = self.collider(i) {
+                    let old = self.world.colliders[c].parent();
+                    // As the docs ask: a full sync when either side would not be
+                    // refreshed (sleeping, fixed, passive, or static geometry).
+                    let sync = old.is_none_or(|p| self.needs_sync(p))
+                        || parent.is_none_or(|p| self.needs_sync(p));
+                    self.world
+                        .colliders
+                        .set_parent(c, parent, &mut self.world.bodies);
+                    if sync {
+                        self.layer.request_full_sync();
+                    }
+                }
+            }
+            Op::CollisionGroups(i, m)
+            | Op::SolverGroups(i, m)
+            | Op::UserHooks(i, m)
+            | Op::SetShape(i, m) => {
+                if let Some(c) = self.collider(i) {
+                    let sync = self.world.colliders[c]
+                        .parent()
+                        .is_none_or(|p| self.needs_sync(p));
+                    let groups = InteractionGroups::new(
+                        Group::from_bits_truncate(u32::from(m & 0x0f) | 1),
+                        Group::from_bits_truncate(u32::from(m >> 4) | 1),
+                        InteractionTestMode::And,
+                    );
+                    let col = &mut self.world.colliders[c];
+                    match op {
+                        Op::CollisionGroups(..) => col.set_collision_groups(groups),
+                        Op::SolverGroups(..) => col.set_solver_groups(groups),
+                        Op::UserHooks(..) => {
+                            col.set_active_hooks(ActiveHooks::from_bits_truncate(u32::from(m)))
+                        }
+                        _ => col.set_shape(SharedShape::ball(0.2 + 0.1 * f32::from(m % 4))),
+                    }
+                    if sync {
+                        self.layer.request_full_sync();
+                    }
+                }
+            }
+            Op::ColliderEnabled(i, on) => {
+                if let Some(c) = self.collider(i) {
+                    let sync = self.world.colliders[c]
+                        .parent()
+                        .is_none_or(|p| self.needs_sync(p));
+                    self.world.colliders[c].set_enabled(on);
+                    if sync {
+                        self.layer.request_full_sync();
+                    }
+                }
+            }
+            Op::UserEvents(i, on) => {
+                if let Some(c) = self.collider(i) {
+                    let col = &mut self.world.colliders[c];
+                    let f = if on {
+                        col.active_events() | ActiveEvents::COLLISION_EVENTS
+                    } else {
+                        col.active_events() - ActiveEvents::COLLISION_EVENTS
+                    };
+                    col.set_active_events(f);
+                }
+            }
             Op::SetType(i, ty) => {
                 // Rapier asserts that a multibody's non-root links are dynamic.
                 if let Some(h) = self.body(i).filter(|&h| !self.non_root_link(h)) {

@@ -82,6 +82,48 @@ pub fn op() -> impl Strategy<Value = Op> {
         (2, idx().prop_map(Op::RemoveCollider).boxed()),
         (1, idx().prop_map(Op::ToggleSensor).boxed()),
         (
+            2,
+            (idx(), prop::option::of(idx()))
+                .prop_map(|(c, b)| Op::SetParent(c, b))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<u8>())
+                .prop_map(|(c, m)| Op::CollisionGroups(c, m))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<u8>())
+                .prop_map(|(c, m)| Op::SolverGroups(c, m))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<bool>())
+                .prop_map(|(c, on)| Op::ColliderEnabled(c, on))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<u8>())
+                .prop_map(|(c, m)| Op::UserHooks(c, m))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<bool>())
+                .prop_map(|(c, on)| Op::UserEvents(c, on))
+                .boxed(),
+        ),
+        (
+            1,
+            (idx(), any::<u8>())
+                .prop_map(|(c, r)| Op::SetShape(c, r))
+                .boxed(),
+        ),
+        (
             3,
             (idx(), ty()).prop_map(|(i, t)| Op::SetType(i, t)).boxed(),
         ),

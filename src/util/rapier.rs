@@ -1,0 +1,20 @@
+//! Writes to Rapier colliders that Rapier would not notice on its own.
+
+use rapier3d::geometry::Collider;
+
+/// Makes Rapier's next narrow phase evaluate the collider's pairs again, even if
+/// neither side moves. Rapier re-evaluates a pair only when a body of it is awake or a
+/// collider carries a narrow-phase change flag, and `set_active_hooks` and
+/// `set_active_collision_types` set none: a rule's hook flags, or a widening, on a
+/// resting or fixed pair would otherwise wait until something moves. The collision
+/// groups are changed and set back, which leaves them as they were and sets Rapier's
+/// `GROUPS` change flag (narrow-phase update only; like any such change, Rapier wakes
+/// the bodies the collider touches). O(1).
+pub(crate) fn reevaluate_pairs(collider: &mut Collider) {
+    let groups = collider.collision_groups();
+    let mut other = groups;
+    other.memberships = !groups.memberships;
+    other.filter = !groups.filter;
+    collider.set_collision_groups(other);
+    collider.set_collision_groups(groups);
+}

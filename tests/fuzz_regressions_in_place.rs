@@ -1,0 +1,66 @@
+//! Minimised regression tests of what `tests/fuzz_operations.rs` found once it changed
+//! colliders in place (issue 14: `set_parent`, groups, enabled flags, the user's own
+//! flags, shapes) and `validate()` checked rule screening against Rapier. `fixed_*`
+//! failed when found and pass since the fix named in each.
+
+mod common;
+
+/// The fuzz harness (`tests/common/fuzz/`), for the tests that replay the arena.
+#[path = "common/fuzz/mod.rs"]
+#[allow(dead_code)]
+mod harness;
+
+use harness::{run, Op};
+
+const BALL: Op = Op::Ball {
+    x: 0,
+    y: 0,
+    z: 0,
+    r: 0,
+};
+
+/// A rule between a ball and a sensor-toggled floor ...
+#[test]
+fn fixed_a_rule_on_a_resting_pair_is_applied_by_rapier() {
+    let ops = [
+        BALL,
+        Op::ToggleSensor(106),
+        BALL,
+        Op::Step(1),
+        BALL,
+        Op::Teleport {
+            body: 4,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        Op::RemoveCollider(65),
+        BALL,
+        Op::Step(1),
+        Op::IgnorePair(117, 51),
+    ];
+    run(&ops, true).unwrap();
+}
+
+/// A collider moved to another body, then a rule between two balls.
+#[test]
+fn fixed_a_rule_after_set_parent_is_applied_by_rapier() {
+    let ops = [
+        BALL,
+        Op::Sensor {
+            on: None,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        BALL,
+        Op::RemoveBody(42),
+        BALL,
+        BALL,
+        BALL,
+        Op::Step(1),
+        Op::SetParent(167, Some(41)),
+        Op::IgnorePair(72, 150),
+    ];
+    run(&ops, true).unwrap();
+}
