@@ -345,6 +345,22 @@ impl Screen<'_> {
         if passive(a) || passive(b) {
             return false;
         }
+        if self.rules.is_empty() {
+            return true;
+        }
+        self.admits_ruled(graph, view, (a, b), (c1, c2), sensor_pair)
+    }
+
+    /// [`Self::admits_pair`] where rules exist (out of the hot path).
+    #[inline(never)]
+    fn admits_ruled(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        (a, b): (NodeId, NodeId),
+        (c1, c2): (ColliderHandle, ColliderHandle),
+        sensor_pair: bool,
+    ) -> bool {
         !self.rules.ignores(a, b)
             || !rule_applied(view, c1, c2, sensor_pair)
             || born_now(graph, a)

@@ -60,6 +60,7 @@ impl Coherence {
         screen: &Screen,
     ) {
         let step = self.step;
+        let stale_before = self.stale.len();
         let mut slots = std::mem::take(&mut self.pair_slots);
         let mut len = 0;
         for (i, pair) in view.narrow_phase.contact_pairs().enumerate() {
@@ -98,7 +99,11 @@ impl Coherence {
             }
         }
         slots.truncate(len);
-        self.pair_slots = slots;
+        // A lookup found a collider that changed owner: other slots may still name
+        // its old edges (read again at the next update, rebuilt without the cache).
+        if self.stale.len() == stale_before {
+            self.pair_slots = slots;
+        }
     }
 
     /// The edge of a collider pair and whether `collider1` belongs to its B node;
@@ -144,6 +149,7 @@ impl Coherence {
     /// Adds a collider pair to an edge, shifting the edge's state to `e_old` on the
     /// first pair of the step. `flip`: Rapier's normal points from `collider1` to
     /// `collider2`, the edge's from A to B; flip when `collider1` belongs to B.
+    #[inline]
     pub(super) fn feed_edge(
         &mut self,
         graph: &mut ContactGraph,

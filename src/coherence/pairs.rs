@@ -50,6 +50,7 @@ fn pose_is_finite(p: &Pose) -> bool {
 /// Starts this step's update of an edge: shifts the state to `e_old`, clears the
 /// aggregates and refreshes the relative transform (unless a pose is not finite, in
 /// which case the last finite one is kept and marked changed).
+#[inline]
 pub(crate) fn begin_edge_update(
     cache: &mut ContactCache,
     pose_a: Option<&Pose>,
@@ -74,6 +75,7 @@ pub(crate) fn begin_edge_update(
 /// pair's `collider1` belongs to the edge's *B* node (Rapier's normals point from
 /// collider 1 to collider 2; the edge's from *A* to *B*). Without `details`, only
 /// proximity, touching and the contact count are gathered.
+#[inline]
 pub(crate) fn accumulate_pair(
     cache: &mut ContactCache,
     pair: &ContactPair,

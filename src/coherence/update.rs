@@ -602,6 +602,9 @@ impl Coherence {
         if !self.stale.contains(&old) {
             self.stale.push(old);
         }
+        // The pair-slot cache finds edges without owner lookups: it may name the
+        // old owner's edge.
+        self.pair_slots.clear();
     }
 
     /// A body's collider list changed since its last refresh (a collider moved to or
