@@ -73,8 +73,8 @@ pub use graph::{
     NodeSource, PairKey, Transition,
 };
 pub use groups::{Group, GroupId, GroupStats, Groups};
-pub use layer::{ContactLayer, StepStats};
-pub use logic::hooks::HooksView;
+pub use layer::{ContactLayer, StepStats, Touching};
+pub use logic::hooks::{HooksView, HooksWith};
 pub use logic::{Rule, WorldMut};
 #[cfg(feature = "serde")]
 pub use snapshot::{LayerSnapshot, SNAPSHOT_FORMAT};
@@ -82,6 +82,10 @@ pub use world::WorldView;
 
 /// Re-export of the Rapier version this crate is built against.
 pub use rapier3d;
+
+/// The receiving end of a subscription ([`ContactLayer::subscribe`]), re-exported so
+/// that naming it needs no `crossbeam-channel` dependency of your own.
+pub use crossbeam_channel::{Receiver, RecvError, TryRecvError};
 
 /// The code blocks of `docs/audit.md` (what the borrow checker refuses at the wrong
 /// time, and the one order that compiles) run as doc tests.

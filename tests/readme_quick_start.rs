@@ -22,9 +22,15 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
     for _ in 0..100 {
         layer.step(&mut world);
     }
-    let node = layer.node_of_body(ball)?;
-    assert_eq!(layer.graph().touching(node).count(), 1);
-    assert!(layer.is_supported(node)?);
+    let ground = world.bodies.iter().next().map(|(h, _)| h).unwrap();
+    assert_eq!(
+        layer.touching_body(&world.bodies, ball)?,
+        vec![rapier_contact_graph::Touching::Body(ground)]
+    );
+    assert_eq!(
+        layer.supports_of_body(&world.bodies, ball, 0.5)?,
+        vec![rapier_contact_graph::Touching::Body(ground)]
+    );
     let events: Vec<_> = touches.try_iter().collect();
     assert_eq!(events.first().map(|e| e.kind), Some(EventKind::TouchBegin));
     Ok(())

@@ -374,3 +374,33 @@ fn groups_do_not_change_motion() {
     };
     assert_eq!(run(true), run(false));
 }
+
+/// The default speed-ups never turn off a Rapier feature the user had on: warm start
+/// and contact recycling stay as the user set them (a user's 0.8 warm start stays
+/// 0.8), and come back as the user set them when the speed-ups are switched off.
+/// Before, `SpeedUps { fixate: true, ..Default::default() }` turned warm start off.
+#[test]
+fn default_speedups_keep_the_users_warm_start_and_recycling() {
+    let mut scene = scenes::ball_on_box();
+    scene.world.integration_parameters.warmstart_coefficient = 0.8;
+    let mut layer = layer_with(SpeedUps {
+        fixate: true,
+        ..SpeedUps::default()
+    });
+    common::run_validated(&mut scene, &mut layer, 0, 5);
+    let p = &scene.world.integration_parameters;
+    assert!(p.contact_recycling, "recycling kept");
+    assert_eq!(p.warmstart_coefficient, 0.8, "the user's warm start kept");
+    // The paper's configuration turns both off; switching off gives the user's back.
+    layer.set_speedups(Some(SpeedUps::contact_graph())).unwrap();
+    common::run_validated(&mut scene, &mut layer, 5, 2);
+    let p = &scene.world.integration_parameters;
+    assert!(!p.contact_recycling && p.warmstart_coefficient == 0.0);
+    layer.set_speedups(None).unwrap();
+    common::run_validated(&mut scene, &mut layer, 7, 2);
+    let p = &scene.world.integration_parameters;
+    assert!(
+        p.contact_recycling && p.warmstart_coefficient == 0.8,
+        "the user's own again"
+    );
+}

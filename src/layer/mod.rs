@@ -5,6 +5,8 @@
 //! `impl NarrowPhase` by phase:
 //! - `step.rs`: `step`, `pre_step`, `analyze` (paper §3, §5, Fig. 11);
 //! - `queries.rs`: the graph, groups, nodes of Rapier handles, support, `validate`;
+//! - `by_handle.rs`: queries by Rapier handle (what touches a body, what holds it
+//!   up, what is inside a sensor, a body's group);
 //! - `events.rs`: subscriptions (§4, Table 3);
 //! - `logic.rs`: rules, timers, passive bodies, containers, trigger widening (§3.2);
 //! - `speedups.rs`: the speed-ups (§7), the monitor (§8) and the hooks Rapier calls.
@@ -17,11 +19,14 @@ use crate::logic::Logic;
 use crate::monitor::LayerMonitor;
 use crate::speedups::SpeedUpState;
 
+mod by_handle;
 mod events;
 mod logic;
 mod queries;
 mod speedups;
 mod step;
+
+pub use by_handle::Touching;
 
 /// Statistics of one step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -155,4 +155,42 @@ impl ContactLayer {
             graph: &self.graph,
         }
     }
+
+    /// The layer's hooks together with the user's own, for users who step Rapier
+    /// themselves: the user's hooks are called for exactly the pairs the user flagged,
+    /// the layer's rules and speed-ups act where the layer flagged (see
+    /// [`HooksWith`](crate::logic::hooks::HooksWith) for the contract). Pass it to
+    /// Rapier's step with [`Self::event_handler_with`]. O(1) to make.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::{ContactLayer, WorldMut, WorldView};
+    ///
+    /// struct NoBounce; // the user's own hooks
+    /// impl PhysicsHooks for NoBounce {
+    ///     fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
+    ///         if let Some(m) = ctx.rigid_mut() {
+    ///             *m.restitution = 0.0;
+    ///         }
+    ///     }
+    /// }
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// let mut layer = ContactLayer::new();
+    /// let events = (); // the user's own event handler
+    /// layer.pre_step(WorldMut::from(&mut world));
+    /// world.step_with_events(&layer.hooks_with(&NoBounce), &layer.event_handler_with(&events));
+    /// layer.analyze(WorldView::from(&world));
+    /// ```
+    pub fn hooks_with<'a, H: rapier3d::pipeline::PhysicsHooks + ?Sized>(
+        &'a self,
+        user: &'a H,
+    ) -> crate::logic::hooks::HooksWith<'a, H> {
+        crate::logic::hooks::HooksWith {
+            layer: self.hooks(),
+            rule_flagged: self.logic.rule_flagged(),
+            modify_flagged: self.speedups.as_ref().map(|s| s.modify_flagged()),
+            user,
+        }
+    }
 }

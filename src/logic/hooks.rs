@@ -8,7 +8,9 @@
 //! for reduce; sleepy bodies' colliders for zero). Without rules and speed-ups no flag
 //! is set, the hooks are never called and results are bit-identical to `&()`.
 
-use rapier3d::pipeline::{ContactModificationContext, PairFilterContext, PhysicsHooks};
+use rapier3d::pipeline::{
+    ActiveHooks, ContactModificationContext, PairFilterContext, PhysicsHooks,
+};
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, SolverFlags};
 
 use crate::graph::{ContactGraph, NodeId};
@@ -166,6 +168,111 @@ impl PhysicsHooks for HooksView<'_> {
                     m.solver_contacts.truncate(1);
                 }
             }
+        }
+    }
+}
+
+/// The layer's hooks together with the user's own `PhysicsHooks`, for users who step
+/// Rapier themselves (Rapier takes one hooks object). Made by
+/// [`crate::ContactLayer::hooks_with`].
+///
+/// The contract, hook by hook (a collider is *user-flagged* for a hook when it carries
+/// the hook's `ActiveHooks` flag by the user's doing, not only because the layer added
+/// it for a rule or a speed-up):
+/// - `filter_contact_pair` / `filter_intersection_pair`: a pair a rule of the layer
+///   ignores is filtered out (the user's hook is not asked: the pair does not exist for
+///   the simulation). Otherwise the user's hook decides if either collider is
+///   user-flagged, and the pair is kept as Rapier would keep it if neither is.
+/// - `modify_solver_contacts`: the user's hook runs first if either collider is
+///   user-flagged for it, then the speed-ups' modifications if the layer flagged one.
+///
+/// So the user's hooks are called for exactly the pairs the user flagged (a rule
+/// aside), as without the layer. With no rule and no speed-up the layer flags nothing
+/// and the composition behaves exactly as the user's hooks alone (tested bit for bit).
+/// Cost: O(1) per call, plus two hash lookups per collider of a flagged pair.
+pub struct HooksWith<'a, H: ?Sized> {
+    pub(crate) layer: HooksView<'a>,
+    /// Colliders the rules flagged, with the hook flags they had before.
+    pub(crate) rule_flagged: &'a std::collections::HashMap<ColliderHandle, ActiveHooks>,
+    /// Colliders the speed-ups flagged for contact modification, with their former
+    /// flags.
+    pub(crate) modify_flagged:
+        Option<&'a std::collections::BTreeMap<(u32, u32), (ColliderHandle, ActiveHooks)>>,
+    pub(crate) user: &'a H,
+}
+
+impl<H: ?Sized> HooksWith<'_, H> {
+    /// Whether the layer added `flag` to the collider (it did not carry it before).
+    fn layer_added(&self, c: ColliderHandle, flag: ActiveHooks) -> bool {
+        let by_rule = self.rule_flagged.get(&c).is_some_and(|before| {
+            crate::logic::RULE_HOOKS.contains(flag) && !before.contains(flag)
+        });
+        let by_speedups = self.modify_flagged.is_some_and(|m| {
+            flag == ActiveHooks::MODIFY_SOLVER_CONTACTS
+                && m.get(&c.into_raw_parts())
+                    .is_some_and(|(_, before)| !before.contains(flag))
+        });
+        by_rule || by_speedups
+    }
+
+    /// Whether the collider carries `flag` by the user's doing.
+    fn user_flagged(
+        &self,
+        colliders: &rapier3d::geometry::ColliderSet,
+        c: ColliderHandle,
+        flag: ActiveHooks,
+    ) -> bool {
+        colliders
+            .get(c)
+            .is_some_and(|co| co.active_hooks().contains(flag))
+            && !self.layer_added(c, flag)
+    }
+
+    /// Whether the layer flagged the collider for contact modification.
+    fn layer_modifies(&self, c: ColliderHandle) -> bool {
+        self.modify_flagged
+            .is_some_and(|m| m.contains_key(&c.into_raw_parts()))
+    }
+}
+
+impl<H: PhysicsHooks + ?Sized> PhysicsHooks for HooksWith<'_, H> {
+    fn filter_contact_pair(&self, ctx: &PairFilterContext) -> Option<SolverFlags> {
+        if self.layer.ignores(ctx) {
+            return None;
+        }
+        let flag = ActiveHooks::FILTER_CONTACT_PAIRS;
+        if self.user_flagged(ctx.colliders, ctx.collider1, flag)
+            || self.user_flagged(ctx.colliders, ctx.collider2, flag)
+        {
+            self.user.filter_contact_pair(ctx)
+        } else {
+            Some(SolverFlags::default())
+        }
+    }
+
+    fn filter_intersection_pair(&self, ctx: &PairFilterContext) -> bool {
+        if self.layer.ignores(ctx) {
+            return false;
+        }
+        let flag = ActiveHooks::FILTER_INTERSECTION_PAIR;
+        if self.user_flagged(ctx.colliders, ctx.collider1, flag)
+            || self.user_flagged(ctx.colliders, ctx.collider2, flag)
+        {
+            self.user.filter_intersection_pair(ctx)
+        } else {
+            true
+        }
+    }
+
+    fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
+        let flag = ActiveHooks::MODIFY_SOLVER_CONTACTS;
+        let (c1, c2) = (ctx.collider1, ctx.collider2);
+        if self.user_flagged(ctx.colliders, c1, flag) || self.user_flagged(ctx.colliders, c2, flag)
+        {
+            self.user.modify_solver_contacts(ctx);
+        }
+        if self.layer_modifies(c1) || self.layer_modifies(c2) {
+            self.layer.modify_solver_contacts(ctx);
         }
     }
 }

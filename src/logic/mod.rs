@@ -107,7 +107,7 @@ fn multibody_refusal(what: &'static str) -> crate::Error {
 }
 
 /// The flags a rule member's colliders get.
-const RULE_HOOKS: ActiveHooks =
+pub(crate) const RULE_HOOKS: ActiveHooks =
     ActiveHooks::FILTER_CONTACT_PAIRS.union(ActiveHooks::FILTER_INTERSECTION_PAIR);
 
 /// The state of the logic layer.
@@ -534,6 +534,11 @@ impl Logic {
             }
         }
         self.scratch_joints = joints;
+    }
+
+    /// The colliders the rules flagged, with the hook flags they had before.
+    pub(crate) fn rule_flagged(&self) -> &HashMap<ColliderHandle, ActiveHooks> {
+        &self.flagged
     }
 
     /// The sensors the layer widened, with the collision types the user gave them.

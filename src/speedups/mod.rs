@@ -350,6 +350,11 @@ impl SpeedUpState {
         self.restored = false;
     }
 
+    /// The colliders flagged for contact modification, with their former flags.
+    pub(crate) fn modify_flagged(&self) -> &BTreeMap<(u32, u32), (ColliderHandle, ActiveHooks)> {
+        &self.flagged
+    }
+
     pub(crate) fn is_detached(&self) -> bool {
         self.detached
     }
@@ -491,8 +496,14 @@ impl SpeedUpState {
             c.iterations
         };
         let cache = c.cache || !thin;
-        params.contact_recycling = cache;
-        params.warmstart_coefficient = if cache { 1.0 } else { 0.0 };
+        // On: the user's own recycling and warm start (recorded above), or both fully
+        // on for the monitor's repair; off: both off.
+        let (recycling, warmstart) = match self.user_params {
+            Some((_, recycling, warmstart)) if thin => (recycling, warmstart),
+            _ => (true, 1.0),
+        };
+        params.contact_recycling = cache && recycling;
+        params.warmstart_coefficient = if cache { warmstart } else { 0.0 };
         mods.reduce_depth = (c.reduce && thin).then_some(c.reduce_depth);
         mods.zero = c.zero;
 

@@ -1,0 +1,181 @@
+//! Queries by Rapier handle: what touches a body, what holds it up, what is inside a
+//! sensor, which sensors a body is in, and a body's contact group, each answered with
+//! Rapier's own handles (node ids stay for what has no Rapier handle: rules, timers,
+//! containers).
+//!
+//! Each query takes the set the handle belongs to, so that it can tell a body the layer
+//! has not seen yet (inserted since the last step: no contacts yet, an empty answer)
+//! from one that is not in the world (removed, or another world's: an error). The
+//! answers are as of the last analysed step. Costs are stated on each method; `degree`
+//! is the number of edges of the body's (or trigger's) node.
+
+use rapier3d::geometry::ColliderSet;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, RigidBodySet};
+
+use crate::graph::{EdgeKind, NodeId, NodeSource};
+use crate::{ContactLayer, Error, Result};
+
+/// Something a body touches or a sensor holds, by Rapier handle: a body, or a
+/// parentless collider (static geometry).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Touching {
+    /// A rigid body (dynamic, kinematic or fixed).
+    Body(RigidBodyHandle),
+    /// A collider without a parent body.
+    Collider(ColliderHandle),
+}
+
+impl ContactLayer {
+    /// The node of a body in the world, `None` if the layer has not seen it yet; an
+    /// error if the world has no such body. O(1).
+    fn node_of_live_body(
+        &self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+    ) -> Result<Option<NodeId>> {
+        if !bodies.contains(body) {
+            return Err(Error::UnknownBody(body));
+        }
+        Ok(self.graph.node_of_body(body))
+    }
+
+    fn touching_of(&self, n: NodeId) -> Option<Touching> {
+        match self.graph.node(n)?.source() {
+            NodeSource::Body(h) => Some(Touching::Body(h)),
+            NodeSource::StaticCollider(c) => Some(Touching::Collider(c)),
+            _ => None,
+        }
+    }
+
+    /// The bodies and static colliders touching `body` (Rapier's contact pairs with
+    /// an active contact), sorted by node. Empty for a body inserted since the last
+    /// step; `Err(UnknownBody)` for a body `bodies` lacks. O(degree).
+    pub fn touching_body(
+        &self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+    ) -> Result<Vec<Touching>> {
+        let Some(n) = self.node_of_live_body(bodies, body)? else {
+            return Ok(Vec::new());
+        };
+        let mut nodes: Vec<NodeId> = self.graph.touching(n).collect();
+        nodes.sort_unstable();
+        Ok(nodes
+            .into_iter()
+            .filter_map(|m| self.touching_of(m))
+            .collect())
+    }
+
+    /// What holds `body` up against the gravity of the last analysed world: the
+    /// bodies and static colliders touching it through a contact whose normal pushes
+    /// it upwards by more than `min_cos` of the unit push (0.0: any upward push),
+    /// sorted by node. Empty if nothing does, or for a body inserted since the last
+    /// step. Needs the contact normals: proximity tracking with contact details on
+    /// (the defaults). `Err(UnknownBody)` for a body `bodies` lacks, `Err(NonFinite)`
+    /// for a NaN `min_cos`. O(degree).
+    pub fn supports_of_body(
+        &self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        min_cos: f32,
+    ) -> Result<Vec<Touching>> {
+        if min_cos.is_nan() {
+            return Err(Error::NonFinite("min_cos"));
+        }
+        let Some(n) = self.node_of_live_body(bodies, body)? else {
+            return Ok(Vec::new());
+        };
+        let scale = self.gravity.abs().max_element();
+        if scale == 0.0 || !scale.is_finite() {
+            return Ok(Vec::new());
+        }
+        let up = -(self.gravity / scale).normalize();
+        let mut nodes: Vec<NodeId> = self.graph.supports_of(n, up, min_cos).collect();
+        nodes.sort_unstable();
+        Ok(nodes
+            .into_iter()
+            .filter_map(|m| self.touching_of(m))
+            .collect())
+    }
+
+    /// The bodies and static colliders inside a sensor collider (their colliders
+    /// intersect it), sorted by node. Empty for a sensor inserted since the last step;
+    /// `Err(UnknownCollider)` for a collider `colliders` lacks or that is not a sensor.
+    /// O(degree of its trigger).
+    pub fn sensor_contents(
+        &self,
+        colliders: &ColliderSet,
+        sensor: ColliderHandle,
+    ) -> Result<Vec<Touching>> {
+        if !colliders.get(sensor).is_some_and(|c| c.is_sensor()) {
+            return Err(Error::UnknownCollider(sensor));
+        }
+        let Some(t) = self.graph.node_of_sensor(sensor) else {
+            return Ok(Vec::new());
+        };
+        let mut nodes: Vec<NodeId> = self
+            .graph
+            .neighbors(t)
+            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
+            .map(|(m, _, _)| m)
+            .collect();
+        nodes.sort_unstable();
+        Ok(nodes
+            .into_iter()
+            .filter_map(|m| self.touching_of(m))
+            .collect())
+    }
+
+    /// The sensor colliders `body` is inside (one of its colliders intersects them),
+    /// sorted by node. Empty for a body inserted since the last step;
+    /// `Err(UnknownBody)` for a body `bodies` lacks. O(degree).
+    pub fn sensors_containing(
+        &self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+    ) -> Result<Vec<ColliderHandle>> {
+        let Some(n) = self.node_of_live_body(bodies, body)? else {
+            return Ok(Vec::new());
+        };
+        let mut nodes: Vec<NodeId> = self
+            .graph
+            .neighbors(n)
+            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
+            .map(|(m, _, _)| m)
+            .collect();
+        nodes.sort_unstable();
+        Ok(nodes
+            .into_iter()
+            .filter_map(|m| match self.graph.node(m)?.source() {
+                NodeSource::Sensor(c) => Some(c),
+                _ => None,
+            })
+            .collect())
+    }
+
+    /// The bodies of `body`'s contact group (paper §4: bodies connected through
+    /// touching contacts and joints, fixed and kinematic bodies insulating), itself
+    /// included, in traversal order. Empty for a body in no group (fixed, kinematic,
+    /// passive, inserted since the last step, or groups off); `Err(UnknownBody)` for a
+    /// body `bodies` lacks. O(group size).
+    pub fn group_of_body(
+        &self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+    ) -> Result<Vec<RigidBodyHandle>> {
+        let Some(n) = self.node_of_live_body(bodies, body)? else {
+            return Ok(Vec::new());
+        };
+        let Some(g) = self.graph.node(n).and_then(|x| x.group()) else {
+            return Ok(Vec::new());
+        };
+        let Some(group) = self.groups.get(g) else {
+            return Ok(Vec::new());
+        };
+        Ok(group
+            .bodies
+            .iter()
+            .filter_map(|&m| self.graph.body_of(m))
+            .collect())
+    }
+}

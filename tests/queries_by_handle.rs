@@ -1,0 +1,209 @@
+//! Queries by Rapier handle, from the user's side (issue 12, item 1): what touches a
+//! body, what holds it up, what is inside a sensor, which sensors a body is in, a
+//! body's contact group. Checked against Rapier's own narrow phase at every step; a
+//! body inserted since the last step answers empty, a removed one is an error.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, Error, Touching};
+
+use common::build::*;
+
+/// A ground body, a parentless ledge, balls falling on both, and a sensor box on the
+/// ground the balls fall into.
+fn scene() -> (
+    PhysicsWorld,
+    Vec<RigidBodyHandle>,
+    ColliderHandle,
+    ColliderHandle,
+) {
+    let (mut world, _) = world_with_ground();
+    let ledge = world.insert_collider(
+        ColliderBuilder::cuboid(1.0, 0.2, 1.0).translation(Vector::new(3.0, 1.5, 0.0)),
+        None,
+    );
+    let (_, sensor) = world.insert(
+        fixed_at([-2.0, 1.0, 0.0]),
+        ColliderBuilder::cuboid(1.0, 0.5, 1.0).sensor(true),
+    );
+    let mut balls = Vec::new();
+    for (i, x) in [-2.2, -1.8, 0.0, 0.3, 3.0, 3.2].into_iter().enumerate() {
+        balls.push(ball_at(&mut world, [x, 2.0 + 0.7 * i as f32, 0.0], 0.3).0);
+    }
+    (world, balls, sensor, ledge)
+}
+
+/// What Rapier says touches a body: the owners of the colliders in its contact pairs
+/// with an active contact.
+fn rapier_touching(world: &PhysicsWorld, body: RigidBodyHandle) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for &c in world.bodies[body].colliders() {
+        for pair in world.narrow_phase.contact_pairs_with(c) {
+            if !pair.has_any_active_contact() {
+                continue;
+            }
+            let other = if pair.collider1 == c {
+                pair.collider2
+            } else {
+                pair.collider1
+            };
+            let t = match world.colliders[other].parent() {
+                Some(b) if b == body => continue,
+                Some(b) => Touching::Body(b),
+                None => Touching::Collider(other),
+            };
+            out.insert(format!("{t:?}"));
+        }
+    }
+    out
+}
+
+#[test]
+fn touching_bodies_are_rapiers_touching_pairs_at_every_step() {
+    let (mut world, balls, sensor, _) = scene();
+    let mut layer = ContactLayer::new();
+    let (mut checked, mut held) = (0, 0);
+    for step in 0..240 {
+        layer.step(&mut world);
+        layer.validate(&world).unwrap();
+        for (h, _) in world.bodies.iter() {
+            let ours: BTreeSet<String> = layer
+                .touching_body(&world.bodies, h)
+                .unwrap()
+                .iter()
+                .map(|t| format!("{t:?}"))
+                .collect();
+            assert_eq!(ours, rapier_touching(&world, h), "step {step}, body {h:?}");
+            checked += ours.len();
+        }
+        // Sensor contents against Rapier's intersections, both ways.
+        let inside: BTreeSet<(u32, u32)> = world
+            .narrow_phase
+            .intersection_pairs_with(sensor)
+            .filter(|(_, _, hit)| *hit)
+            .filter_map(|(a, b, _)| world.colliders[if a == sensor { b } else { a }].parent())
+            .map(|h| h.into_raw_parts())
+            .collect();
+        let ours: BTreeSet<(u32, u32)> = layer
+            .sensor_contents(&world.colliders, sensor)
+            .unwrap()
+            .into_iter()
+            .filter_map(|t| match t {
+                Touching::Body(b) => Some(b.into_raw_parts()),
+                Touching::Collider(_) => None,
+            })
+            .collect();
+        assert_eq!(ours, inside, "step {step}: inside the sensor");
+        held += inside.len();
+        for &b in &balls {
+            let in_sensor = layer.sensors_containing(&world.bodies, b).unwrap() == vec![sensor];
+            assert_eq!(
+                in_sensor,
+                inside.contains(&b.into_raw_parts()),
+                "step {step}: {b:?} in the sensor"
+            );
+        }
+    }
+    assert!(
+        checked > 0 && held > 0,
+        "the scene makes contacts and fills the sensor"
+    );
+}
+
+#[test]
+fn a_resting_ball_is_held_up_by_the_ground_and_grouped_with_what_it_touches() {
+    let (mut world, balls, _, ledge) = scene();
+    let ground = world.bodies.iter().next().unwrap().0;
+    let mut layer = ContactLayer::new();
+    for _ in 0..300 {
+        layer.step(&mut world);
+    }
+    layer.validate(&world).unwrap();
+    // Balls 2 and 3 land on the ground, balls 4 and 5 on the ledge.
+    let supports = layer
+        .supports_of_body(&world.bodies, balls[2], 0.5)
+        .unwrap();
+    assert!(supports.contains(&Touching::Body(ground)), "{supports:?}");
+    let on_ledge = layer
+        .supports_of_body(&world.bodies, balls[4], 0.5)
+        .unwrap();
+    assert!(
+        on_ledge.contains(&Touching::Collider(ledge)),
+        "{on_ledge:?}"
+    );
+    for &b in &balls {
+        let group = layer.group_of_body(&world.bodies, b).unwrap();
+        if !group.is_empty() {
+            assert!(group.contains(&b), "a body is in its own group");
+        }
+        for t in layer.touching_body(&world.bodies, b).unwrap() {
+            if let Touching::Body(other) = t {
+                if world.bodies[other].is_dynamic() && !group.is_empty() {
+                    assert!(
+                        group.contains(&other),
+                        "touching dynamic bodies share a group"
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        layer
+            .group_of_body(&world.bodies, ground)
+            .unwrap()
+            .is_empty(),
+        "a fixed body insulates: in no group"
+    );
+}
+
+#[test]
+fn new_bodies_answer_empty_and_removed_ones_are_errors() {
+    let (mut world, balls, sensor, ledge) = scene();
+    let mut layer = ContactLayer::new();
+    for _ in 0..60 {
+        layer.step(&mut world);
+    }
+    // Inserted since the last step, overlapping the ground: no contacts yet.
+    let (new, _) = ball_at(&mut world, [0.0, 0.6, 2.0], 0.3);
+    assert_eq!(layer.touching_body(&world.bodies, new), Ok(Vec::new()));
+    assert_eq!(
+        layer.supports_of_body(&world.bodies, new, 0.0),
+        Ok(Vec::new())
+    );
+    assert_eq!(layer.sensors_containing(&world.bodies, new), Ok(Vec::new()));
+    assert_eq!(layer.group_of_body(&world.bodies, new), Ok(Vec::new()));
+    // Removed (before or after the next step): an error naming the handle.
+    world.remove_body(balls[0]);
+    assert_eq!(
+        layer.touching_body(&world.bodies, balls[0]),
+        Err(Error::UnknownBody(balls[0]))
+    );
+    layer.step(&mut world);
+    for query in [
+        layer.touching_body(&world.bodies, balls[0]),
+        layer.supports_of_body(&world.bodies, balls[0], 0.0),
+    ] {
+        assert_eq!(query, Err(Error::UnknownBody(balls[0])));
+    }
+    assert_eq!(
+        layer.group_of_body(&world.bodies, balls[0]),
+        Err(Error::UnknownBody(balls[0]))
+    );
+    // A collider that is not a sensor, or not in the world.
+    assert_eq!(
+        layer.sensor_contents(&world.colliders, ledge),
+        Err(Error::UnknownCollider(ledge))
+    );
+    world.remove_collider(sensor);
+    assert_eq!(
+        layer.sensor_contents(&world.colliders, sensor),
+        Err(Error::UnknownCollider(sensor))
+    );
+    assert!(matches!(
+        layer.supports_of_body(&world.bodies, balls[1], f32::NAN),
+        Err(Error::NonFinite(_))
+    ));
+}
