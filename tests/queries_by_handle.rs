@@ -207,3 +207,43 @@ fn new_bodies_answer_empty_and_removed_ones_are_errors() {
         Err(Error::NonFinite(_))
     ));
 }
+
+/// Events carry Rapier's handles: a trigger event names the sensor collider that
+/// fired and the body that entered; a touch with static geometry names its collider.
+#[test]
+fn events_name_the_sensor_and_the_static_collider() {
+    use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+    let (mut world, balls, sensor, ledge) = scene();
+    let mut layer = ContactLayer::new();
+    let rx = layer.subscribe(Filter::kinds(KindSet::TRIGGER | EventKind::TouchBegin));
+    for _ in 0..240 {
+        layer.step(&mut world);
+    }
+    let events: Vec<_> = rx.try_iter().collect();
+    let enters: Vec<_> = events
+        .iter()
+        .filter(|e| e.kind == EventKind::TriggerEnter)
+        .collect();
+    assert!(!enters.is_empty(), "balls fall into the sensor");
+    for e in &enters {
+        assert_eq!(e.collider_a, Some(sensor), "{e:?}");
+    }
+    assert!(
+        enters
+            .iter()
+            .any(|e| e.body_b.is_some_and(|b| balls.contains(&b))),
+        "a ball's entry names the ball"
+    );
+    let on_ledge = events.iter().any(|e| {
+        e.kind == EventKind::TouchBegin
+            && (e.collider_a == Some(ledge) || e.collider_b == Some(ledge))
+    });
+    assert!(on_ledge, "a touch with the ledge names its collider");
+    assert!(
+        events
+            .iter()
+            .filter(|e| e.body_a.is_some() && e.kind == EventKind::TouchBegin)
+            .all(|e| e.collider_a.is_none()),
+        "a body has no collider of its own in an event"
+    );
+}

@@ -16,6 +16,18 @@ pub(crate) struct StepMarks<'a> {
 }
 
 impl StepMarks<'_> {
+    fn collider(&self, n: NodeId) -> Option<rapier3d::prelude::ColliderHandle> {
+        let source = self.graph.node(n).map(|x| x.source()).or_else(|| {
+            self.removed_nodes
+                .iter()
+                .find(|r| r.id == n)
+                .map(|r| r.source)
+        });
+        match source? {
+            crate::NodeSource::Sensor(c) | crate::NodeSource::StaticCollider(c) => Some(c),
+            _ => None,
+        }
+    }
     fn kind(&self, n: NodeId) -> Option<NodeKind> {
         self.graph.node(n).map(|x| x.kind()).or_else(|| {
             self.removed_nodes
@@ -48,15 +60,10 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Trigger);
     let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
         if wanted.contains(kind) {
-            out.push(Event::plain(
-                step,
-                kind,
-                a,
-                b,
-                body(a),
-                b.and_then(body),
-                tick,
-            ));
+            let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
+            e.collider_a = m.collider(a);
+            e.collider_b = b.and_then(|b| m.collider(b));
+            out.push(e);
         }
     };
     let awake = |n: NodeId| m.graph.node(n).is_some_and(|n| n.is_awake());

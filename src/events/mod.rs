@@ -39,7 +39,7 @@ pub(crate) mod collect;
 pub use bus::{EventBus, SubscriptionId};
 
 use rapier3d::math::Real;
-use rapier3d::prelude::RigidBodyHandle;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::NodeId;
 
@@ -163,7 +163,47 @@ impl KindSet {
     }
 }
 
-/// One event. `Copy`, 64 bytes or less: cheap to send.
+/// `KindSet::TOUCH | KindSet::TRIGGER`, as Rapier's flags combine.
+impl std::ops::BitOr for KindSet {
+    type Output = KindSet;
+    #[inline]
+    fn bitor(self, other: KindSet) -> KindSet {
+        self.union(other)
+    }
+}
+
+impl std::ops::BitOrAssign for KindSet {
+    #[inline]
+    fn bitor_assign(&mut self, other: KindSet) {
+        *self = self.union(other);
+    }
+}
+
+/// `KindSet::TOUCH | EventKind::FellAsleep`.
+impl std::ops::BitOr<EventKind> for KindSet {
+    type Output = KindSet;
+    #[inline]
+    fn bitor(self, kind: EventKind) -> KindSet {
+        KindSet(self.0 | kind.bit())
+    }
+}
+
+/// `EventKind::TouchBegin | EventKind::TouchEnd`.
+impl std::ops::BitOr for EventKind {
+    type Output = KindSet;
+    #[inline]
+    fn bitor(self, other: EventKind) -> KindSet {
+        KindSet(self.bit() | other.bit())
+    }
+}
+
+impl From<EventKind> for KindSet {
+    fn from(kind: EventKind) -> KindSet {
+        KindSet(kind.bit())
+    }
+}
+
+/// One event. `Copy`, 96 bytes: cheap to send (checked by a unit test).
 ///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
@@ -182,6 +222,15 @@ pub struct Event {
     pub body_a: Option<RigidBodyHandle>,
     /// The Rapier body of `b`, if it is (or was) a body.
     pub body_b: Option<RigidBodyHandle>,
+    /// The collider `a` stands for, if it stands for one: a trigger's sensor collider
+    /// (so a trigger event names the sensor that fired), or a parentless collider.
+    /// `None` for a body: a body pair aggregates all its collider pairs (read them
+    /// from Rapier's narrow phase with `contact_pair`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub collider_a: Option<ColliderHandle>,
+    /// The collider `b` stands for, as [`Self::collider_a`].
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub collider_b: Option<ColliderHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
     pub tick: u64,
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the kind of
@@ -210,6 +259,8 @@ impl Event {
             b,
             body_a,
             body_b,
+            collider_a: None,
+            collider_b: None,
             tick,
             violation: None,
             value: 0.0,
@@ -224,6 +275,8 @@ impl Event {
             self.b,
             self.body_a,
             self.body_b,
+            self.collider_a,
+            self.collider_b,
             self.tick,
             self.violation,
             self.value.to_bits(),
@@ -336,5 +389,42 @@ impl ViolationKind {
             ViolationKind::DeepPenetration => "deep_penetration",
             ViolationKind::Escape => "escape",
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kind_sets_combine_with_bitor() {
+        assert_eq!(
+            KindSet::TOUCH | KindSet::TRIGGER,
+            KindSet::TOUCH.union(KindSet::TRIGGER)
+        );
+        let mut k = KindSet::NONE;
+        k |= KindSet::SLEEP;
+        assert_eq!(k, KindSet::SLEEP);
+        assert_eq!(
+            EventKind::TouchBegin | EventKind::TouchEnd,
+            KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd])
+        );
+        let with = KindSet::TOUCH | EventKind::FellAsleep;
+        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::TouchBegin));
+        assert!(!with.contains(EventKind::WokeUp));
+        assert_eq!(
+            KindSet::from(EventKind::WokeUp),
+            KindSet::of(&[EventKind::WokeUp])
+        );
+    }
+}
+
+#[cfg(test)]
+mod size {
+    /// An event stays as small as its docs say.
+    #[test]
+    fn an_event_is_small() {
+        let size = std::mem::size_of::<super::Event>();
+        assert!(size <= 96, "Event is {size} bytes");
     }
 }

@@ -226,9 +226,10 @@ impl Logic {
     }
 
     /// Applies the queued changes to the world. `new_nodes` are the nodes the last
-    /// analysis created (its new triggers are widened). Cost: O(1) when nothing is
-    /// queued, else O(rule members + their colliders), plus O(new nodes), plus
-    /// O(colliders) when their count changed.
+    /// analysis created (its new triggers are widened). Cost: O(1) without rules,
+    /// passive bodies or widened sensors; with rules, O(rule members + their
+    /// colliders · log) per step to see a member's collider list change; plus
+    /// O(new nodes + widened sensors), plus O(colliders) when their count changed.
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
