@@ -19,7 +19,12 @@ const BALL: Op = Op::Ball {
     r: 0,
 };
 
-/// A rule between a ball and a sensor-toggled floor ...
+/// A rule between a trigger (a ball collider turned into a sensor) and the fixed
+/// floor it rests in: neither side moves, so Rapier never evaluated the pair again and
+/// the rule's hook was never asked; `validate()` (now checking rule screening against
+/// Rapier) failed with "a rule screens the pair … but Rapier collides it". Passes since
+/// the layer sets Rapier's `GROUPS` change flag on the colliders whose hook flags it
+/// changes (616b38f).
 #[test]
 fn fixed_a_rule_on_a_resting_pair_is_applied_by_rapier() {
     let ops = [
@@ -42,7 +47,10 @@ fn fixed_a_rule_on_a_resting_pair_is_applied_by_rapier() {
     run(&ops, true).unwrap();
 }
 
-/// A collider moved to another body, then a rule between two balls.
+/// A wall (static geometry) moved onto a ball with `set_parent`, then a rule between
+/// that ball and another: Rapier's hooks, run before the analysis saw the move, named
+/// the wall by its stale static node and let the pair collide. Passes since the hooks
+/// name a collider by Rapier's parent (616b38f).
 #[test]
 fn fixed_a_rule_after_set_parent_is_applied_by_rapier() {
     let ops = [
