@@ -154,22 +154,35 @@ fn one_layer_stepping_two_worlds_resynchronises_to_each() {
     }
 }
 
+/// A ball resting on the ground and another dropped on it from `height`, a rule
+/// ignoring the pair added after one step: the world, the layer, the first ball
+/// (body, collider) and the two nodes.
+fn ball_ignoring_another(
+    height: f32,
+) -> (
+    PhysicsWorld,
+    ContactLayer,
+    (RigidBodyHandle, ColliderHandle),
+    (rapier_contact_graph::NodeId, rapier_contact_graph::NodeId),
+) {
+    let (mut world, _) = world_with_ground();
+    let first = ball_at(&mut world, [0.0, 0.8, 0.0], 0.3);
+    let (b, _) = ball_at(&mut world, [0.0, height, 0.0], 0.3);
+    let mut layer = ContactLayer::new();
+    layer.step(&mut world);
+    let na = layer.node_of_body(first.0).unwrap();
+    let nb = layer.node_of_body(b).unwrap();
+    layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
+    (world, layer, first, (na, nb))
+}
+
 /// A rule's member gains one collider and loses another in the same step (the
 /// collider count unchanged): the new collider gets the rule's hook flags and
 /// Rapier filters its pairs. Failed before the rules watched their members'
 /// collider lists (the flags were redone only when the collider count changed).
 #[test]
 fn a_rule_follows_its_members_collider_swap() {
-    let (mut world, _) = world_with_ground();
-    let (a, first) = ball_at(&mut world, [0.0, 0.8, 0.0], 0.3);
-    let (b, _) = ball_at(&mut world, [0.0, 1.2, 0.0], 0.3);
-    let mut layer = ContactLayer::new();
-    layer.step(&mut world);
-    let (na, nb) = (
-        layer.node_of_body(a).unwrap(),
-        layer.node_of_body(b).unwrap(),
-    );
-    layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
+    let (mut world, mut layer, (a, first), (na, nb)) = ball_ignoring_another(1.2);
     run(&mut layer, &mut world, 5, "rule");
     world.remove_collider(first);
     let second = world.insert_collider(ColliderBuilder::ball(0.35), Some(a));
@@ -233,16 +246,7 @@ fn a_predicate_rule_meets_a_new_body_consistently() {
 /// not applied, and `validate()` says so instead of passing.
 #[test]
 fn validate_sees_a_rule_rapier_did_not_apply() {
-    let (mut world, _) = world_with_ground();
-    let (a, _) = ball_at(&mut world, [0.0, 0.8, 0.0], 0.3);
-    let (b, _) = ball_at(&mut world, [0.0, 1.6, 0.0], 0.3);
-    let mut layer = ContactLayer::new();
-    layer.step(&mut world);
-    let (na, nb) = (
-        layer.node_of_body(a).unwrap(),
-        layer.node_of_body(b).unwrap(),
-    );
-    layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
+    let (mut world, mut layer, _, _) = ball_ignoring_another(1.6);
     let mut failed = None;
     for i in 0..60 {
         layer.pre_step(WorldMut::from(&mut world));

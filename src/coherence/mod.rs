@@ -351,6 +351,18 @@ impl Screen<'_> {
         self.admits_ruled(graph, view, (a, b), (c1, c2), sensor_pair)
     }
 
+    /// [`Self::admits_pair`] for one of Rapier's contact pairs. O(1).
+    #[inline]
+    pub(crate) fn admits_contact(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        nodes: (NodeId, NodeId),
+        pair: &rapier3d::geometry::ContactPair,
+    ) -> bool {
+        self.admits_pair(graph, view, nodes, (pair.collider1, pair.collider2), false)
+    }
+
     /// [`Self::admits_pair`] where rules exist (out of the hot path).
     #[inline(never)]
     fn admits_ruled(

@@ -92,9 +92,7 @@ impl Coherence {
             let Some(e) = graph.edge(eid) else { continue };
             let (a, b) = (e.a, e.b);
             let refreshed = |n| graph.node(n).is_some_and(|n| n.seen_step == step);
-            if (refreshed(a) || refreshed(b))
-                && screen.admits_pair(graph, view, (a, b), (pair.collider1, pair.collider2), false)
-            {
+            if (refreshed(a) || refreshed(b)) && screen.admits_contact(graph, view, (a, b), pair) {
                 self.feed_edge(graph, view, eid, pair, flip);
             }
         }
@@ -118,15 +116,7 @@ impl Coherence {
         let n1 = self.owner_of(graph, view, pair.collider1)?;
         let n2 = self.owner_of(graph, view, pair.collider2)?;
         // Screened pairs (passive end, rule) make no edge (Fig. 4).
-        if n1 == n2
-            || !screen.admits_pair(
-                graph,
-                view,
-                (n1, n2),
-                (pair.collider1, pair.collider2),
-                false,
-            )
-        {
+        if n1 == n2 || !screen.admits_contact(graph, view, (n1, n2), pair) {
             return None;
         }
         let eid = pairs::physical_edge_for(graph, n1, n2, self.step)?;

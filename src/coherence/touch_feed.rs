@@ -406,15 +406,7 @@ impl Coherence {
             ) else {
                 return;
             };
-            if n1 == n2
-                || !screen.admits_pair(
-                    graph,
-                    view,
-                    (n1, n2),
-                    (pair.collider1, pair.collider2),
-                    false,
-                )
-            {
+            if n1 == n2 || !screen.admits_contact(graph, view, (n1, n2), pair) {
                 return;
             }
             if pair.has_any_active_contact() {

@@ -39,6 +39,19 @@ impl ContactLayer {
         Ok(self.graph.node_of_body(body))
     }
 
+    /// The nodes a node's geometric edges reach while they overlap (a trigger's
+    /// contents, or the triggers a body is in), sorted. O(degree).
+    fn inside_of(&self, n: NodeId) -> Vec<NodeId> {
+        let mut nodes: Vec<NodeId> = self
+            .graph
+            .neighbors(n)
+            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
+            .map(|(m, _, _)| m)
+            .collect();
+        nodes.sort_unstable();
+        nodes
+    }
+
     fn touching_of(&self, n: NodeId) -> Option<Touching> {
         match self.graph.node(n)?.source() {
             NodeSource::Body(h) => Some(Touching::Body(h)),
@@ -113,13 +126,7 @@ impl ContactLayer {
         let Some(t) = self.graph.node_of_sensor(sensor) else {
             return Ok(Vec::new());
         };
-        let mut nodes: Vec<NodeId> = self
-            .graph
-            .neighbors(t)
-            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
-            .map(|(m, _, _)| m)
-            .collect();
-        nodes.sort_unstable();
+        let nodes = self.inside_of(t);
         Ok(nodes
             .into_iter()
             .filter_map(|m| self.touching_of(m))
@@ -137,13 +144,7 @@ impl ContactLayer {
         let Some(n) = self.node_of_live_body(bodies, body)? else {
             return Ok(Vec::new());
         };
-        let mut nodes: Vec<NodeId> = self
-            .graph
-            .neighbors(n)
-            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
-            .map(|(m, _, _)| m)
-            .collect();
-        nodes.sort_unstable();
+        let nodes = self.inside_of(n);
         Ok(nodes
             .into_iter()
             .filter_map(|m| match self.graph.node(m)?.source() {

@@ -228,6 +228,12 @@ impl<H: ?Sized> HooksWith<'_, H> {
             && !self.layer_added(c, flag)
     }
 
+    /// Whether either collider of the pair carries `flag` by the user's doing.
+    fn users_pair(&self, ctx: &PairFilterContext, flag: ActiveHooks) -> bool {
+        self.user_flagged(ctx.colliders, ctx.collider1, flag)
+            || self.user_flagged(ctx.colliders, ctx.collider2, flag)
+    }
+
     /// Whether the layer flagged the collider for contact modification.
     fn layer_modifies(&self, c: ColliderHandle) -> bool {
         self.modify_flagged
@@ -240,10 +246,7 @@ impl<H: PhysicsHooks + ?Sized> PhysicsHooks for HooksWith<'_, H> {
         if self.layer.ignores(ctx) {
             return None;
         }
-        let flag = ActiveHooks::FILTER_CONTACT_PAIRS;
-        if self.user_flagged(ctx.colliders, ctx.collider1, flag)
-            || self.user_flagged(ctx.colliders, ctx.collider2, flag)
-        {
+        if self.users_pair(ctx, ActiveHooks::FILTER_CONTACT_PAIRS) {
             self.user.filter_contact_pair(ctx)
         } else {
             Some(SolverFlags::default())
@@ -254,10 +257,7 @@ impl<H: PhysicsHooks + ?Sized> PhysicsHooks for HooksWith<'_, H> {
         if self.layer.ignores(ctx) {
             return false;
         }
-        let flag = ActiveHooks::FILTER_INTERSECTION_PAIR;
-        if self.user_flagged(ctx.colliders, ctx.collider1, flag)
-            || self.user_flagged(ctx.colliders, ctx.collider2, flag)
-        {
+        if self.users_pair(ctx, ActiveHooks::FILTER_INTERSECTION_PAIR) {
             self.user.filter_intersection_pair(ctx)
         } else {
             true
