@@ -65,7 +65,10 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             None => graph.node_of_static_collider(c),
         }
     };
-    let rules = layer.rule_table();
+    let screen = crate::coherence::Screen {
+        rules: layer.rule_table(),
+        force: &[],
+    };
     // A pair is screened by a passive end, or by a rule that Rapier applied (it asks
     // the filter hooks only where a collider carries the flag). A rule-screened pair
     // must then be one Rapier filtered: no contact, no intersection.
@@ -74,11 +77,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         if passive(a) || passive(b) {
             return Ok(true);
         }
-        if !rules.ignores(a, b)
-            || !crate::coherence::rule_applied(view, c1, c2, sensor_pair)
-            || crate::coherence::born_now(graph, a)
-            || crate::coherence::born_now(graph, b)
-        {
+        if !screen.rule_screens(graph, view, (a, b), (c1, c2), sensor_pair) {
             return Ok(false);
         }
         if active {

@@ -345,10 +345,7 @@ impl Screen<'_> {
         if passive(a) || passive(b) {
             return false;
         }
-        if self.rules.is_empty() {
-            return true;
-        }
-        self.admits_ruled(graph, view, (a, b), (c1, c2), sensor_pair)
+        self.rules.is_empty() || !self.rule_screens(graph, view, (a, b), (c1, c2), sensor_pair)
     }
 
     /// [`Self::admits_pair`] for one of Rapier's contact pairs. O(1).
@@ -363,9 +360,13 @@ impl Screen<'_> {
         self.admits_pair(graph, view, nodes, (pair.collider1, pair.collider2), false)
     }
 
-    /// [`Self::admits_pair`] where rules exist (out of the hot path).
+    /// Whether a rule screens one collider pair of `a` and `b` *and Rapier applied
+    /// it*: the rule ignores the pair, a collider carries the filter flag, and both
+    /// nodes existed during Rapier's step (see [`Self::admits_pair`]). What the
+    /// analysis hides, and what `validate()` requires Rapier to have filtered. Out of
+    /// the hot path (called only when rules exist). O(1).
     #[inline(never)]
-    fn admits_ruled(
+    pub(crate) fn rule_screens(
         &self,
         graph: &ContactGraph,
         view: &WorldView,
@@ -373,16 +374,16 @@ impl Screen<'_> {
         (c1, c2): (ColliderHandle, ColliderHandle),
         sensor_pair: bool,
     ) -> bool {
-        !self.rules.ignores(a, b)
-            || !rule_applied(view, c1, c2, sensor_pair)
-            || born_now(graph, a)
-            || born_now(graph, b)
+        self.rules.ignores(a, b)
+            && rule_applied(view, c1, c2, sensor_pair)
+            && !born_now(graph, a)
+            && !born_now(graph, b)
     }
 }
 
 /// Whether the node was made by the last analysis: Rapier's hooks, asked during the
 /// step before it, could not name it, so no rule about it was applied yet. O(1).
-pub(crate) fn born_now(graph: &ContactGraph, n: NodeId) -> bool {
+fn born_now(graph: &ContactGraph, n: NodeId) -> bool {
     graph
         .node(n)
         .is_some_and(|node| node.born_step == graph.clock)
@@ -390,7 +391,7 @@ pub(crate) fn born_now(graph: &ContactGraph, n: NodeId) -> bool {
 
 /// Whether Rapier asks the filter hooks about a collider pair (so a rule screening
 /// it is applied). O(1).
-pub(crate) fn rule_applied(
+fn rule_applied(
     view: &WorldView,
     c1: ColliderHandle,
     c2: ColliderHandle,

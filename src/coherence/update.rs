@@ -629,9 +629,9 @@ impl Coherence {
                 }
             }
         }
+        // `owner_moved` drops the pair-slot cache too.
         self.owner_moved(id);
         self.owners.clear();
-        self.pair_slots.clear();
     }
 
     /// Whether the world is the one of the last update, as far as an O(1) look tells:

@@ -42,22 +42,24 @@ impl ContactLayer {
     /// The nodes a node's geometric edges reach while they overlap (a trigger's
     /// contents, or the triggers a body is in), sorted. O(degree).
     fn inside_of(&self, n: NodeId) -> Vec<NodeId> {
-        let mut nodes: Vec<NodeId> = self
-            .graph
-            .neighbors(n)
-            .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
-            .map(|(m, _, _)| m)
-            .collect();
-        nodes.sort_unstable();
-        nodes
+        sorted(
+            self.graph
+                .neighbors(n)
+                .filter(|(_, _, e)| e.kind() == EdgeKind::Geometric && e.is_proximate())
+                .map(|(m, _, _)| m),
+        )
     }
 
-    fn touching_of(&self, n: NodeId) -> Option<Touching> {
-        match self.graph.node(n)?.source() {
-            NodeSource::Body(h) => Some(Touching::Body(h)),
-            NodeSource::StaticCollider(c) => Some(Touching::Collider(c)),
-            _ => None,
-        }
+    /// The bodies and static colliders among `nodes`, in node order.
+    fn touching_of(&self, nodes: Vec<NodeId>) -> Vec<Touching> {
+        nodes
+            .into_iter()
+            .filter_map(|m| match self.graph.node(m)?.source() {
+                NodeSource::Body(h) => Some(Touching::Body(h)),
+                NodeSource::StaticCollider(c) => Some(Touching::Collider(c)),
+                _ => None,
+            })
+            .collect()
     }
 
     /// The bodies and static colliders touching `body` (Rapier's contact pairs with
@@ -71,12 +73,7 @@ impl ContactLayer {
         let Some(n) = self.node_of_live_body(bodies, body)? else {
             return Ok(Vec::new());
         };
-        let mut nodes: Vec<NodeId> = self.graph.touching(n).collect();
-        nodes.sort_unstable();
-        Ok(nodes
-            .into_iter()
-            .filter_map(|m| self.touching_of(m))
-            .collect())
+        Ok(self.touching_of(sorted(self.graph.touching(n))))
     }
 
     /// What holds `body` up against the gravity of the last analysed world: the
@@ -103,12 +100,7 @@ impl ContactLayer {
             return Ok(Vec::new());
         }
         let up = -(self.gravity / scale).normalize();
-        let mut nodes: Vec<NodeId> = self.graph.supports_of(n, up, min_cos).collect();
-        nodes.sort_unstable();
-        Ok(nodes
-            .into_iter()
-            .filter_map(|m| self.touching_of(m))
-            .collect())
+        Ok(self.touching_of(sorted(self.graph.supports_of(n, up, min_cos))))
     }
 
     /// The bodies and static colliders inside a sensor collider (their colliders
@@ -126,11 +118,7 @@ impl ContactLayer {
         let Some(t) = self.graph.node_of_sensor(sensor) else {
             return Ok(Vec::new());
         };
-        let nodes = self.inside_of(t);
-        Ok(nodes
-            .into_iter()
-            .filter_map(|m| self.touching_of(m))
-            .collect())
+        Ok(self.touching_of(self.inside_of(t)))
     }
 
     /// The sensor colliders `body` is inside (one of its colliders intersects them),
@@ -144,8 +132,8 @@ impl ContactLayer {
         let Some(n) = self.node_of_live_body(bodies, body)? else {
             return Ok(Vec::new());
         };
-        let nodes = self.inside_of(n);
-        Ok(nodes
+        Ok(self
+            .inside_of(n)
             .into_iter()
             .filter_map(|m| match self.graph.node(m)?.source() {
                 NodeSource::Sensor(c) => Some(c),
@@ -179,4 +167,11 @@ impl ContactLayer {
             .filter_map(|&m| self.graph.body_of(m))
             .collect())
     }
+}
+
+/// The nodes, sorted (queries answer in node order, which is deterministic).
+fn sorted(nodes: impl Iterator<Item = NodeId>) -> Vec<NodeId> {
+    let mut v: Vec<NodeId> = nodes.collect();
+    v.sort_unstable();
+    v
 }

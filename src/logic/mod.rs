@@ -248,13 +248,10 @@ impl Logic {
         };
         let need_sig = crate::graph::mirror::colliders_sig(&need);
         let members_changed = need_sig != self.flagged_sig;
-        if self.rules_dirty || colliders_changed || members_changed {
-            self.flagged_sig = need_sig;
-        }
+        self.flagged_sig = need_sig;
         if self.rules_dirty || (colliders_changed && !self.rules.is_empty()) || members_changed {
             self.rules_dirty = false;
             self.rebuild_table();
-            let need = self.colliders_needing_flags(graph, world.bodies);
             // Restore colliders no longer concerned (and forget removed ones).
             let mut had: Vec<ColliderHandle> = self.flagged.keys().copied().collect();
             had.sort_by_key(|c| c.into_raw_parts());
