@@ -494,6 +494,9 @@ impl ContactLayer {
             return Err(Error::SnapshotMismatch(mismatch(snapshot, &view)));
         }
         let mut state = snapshot.state.clone();
+        // The groups' positions and counts are not in the bytes: rebuilt from the
+        // groups' lists (on any bytes), then checked with the rest.
+        state.groups.reindex(&mut state.graph);
         check_state(&state).map_err(|e| Error::Invariant(format!("snapshot: {e}")))?;
         bind_predicates(&mut state.logic, bind)?;
         let mut state = state;

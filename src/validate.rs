@@ -281,6 +281,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             }
         }
     }
+    groups
+        .verify(graph, &|n| layer.insulates(n))
+        .map_err(Error::Invariant)?;
     for (gid, g) in groups.iter() {
         let mut contacts = 0u32;
         for &eid in &g.edges {

@@ -88,9 +88,9 @@ fn one_touching_line_per_touching_pair_in_its_group_colour() {
 }
 
 #[test]
-fn group_colours_stay_when_a_group_is_rebuilt() {
-    // A third ball lands on pile a: the contact that begins rebuilds the group, under a
-    // new id; its smallest member, and so its colour, stay.
+fn group_colours_stay_when_a_group_grows() {
+    // A third ball lands on pile a: the contact that begins merges the ball's group
+    // into the pile's, which keeps its id; its smallest member, and so its colour, stay.
     let Balls { mut world, a, .. } = balls();
     let dropped = ball(&mut world, 0.0, 4.0, 0.5);
     let mut layer = ContactLayer::new();
@@ -122,7 +122,11 @@ fn group_colours_stay_when_a_group_is_rebuilt() {
         layer.node_of_body(dropped).unwrap(),
     );
     assert!(layer.graph().touching(na).any(|n| n == nd), "it landed");
-    assert_ne!(group_of(&layer), g1, "the group was rebuilt under a new id");
+    assert_eq!(
+        group_of(&layer),
+        g1,
+        "the merge keeps the larger group's id"
+    );
 }
 
 #[test]

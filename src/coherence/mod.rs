@@ -155,6 +155,10 @@ pub struct Coherence {
     sleep_changes: Vec<(NodeId, bool)>,
     /// Bodies made passive or active this step.
     passive_changed: Vec<NodeId>,
+    /// Nodes whose awake flag changed this step (their group's sleep is counted
+    /// again). Per-step scratch.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    awake_flips: Vec<NodeId>,
     /// Scratch buffer for a node's colliders.
     scratch_colliders: Vec<ColliderHandle>,
     verify_cursor: u32,

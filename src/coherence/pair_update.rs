@@ -5,7 +5,6 @@
 use rapier3d::geometry::ContactPair;
 
 use crate::graph::{ContactGraph, EdgeId, EdgeKind, NodeId};
-use crate::groups::Groups;
 use crate::WorldView;
 
 use super::*;
@@ -171,13 +170,7 @@ impl Coherence {
 
     /// An edge of a refreshed body that no collider pair reached this step: it has
     /// vanished (mark it), or vanished earlier (remove it if obsolete).
-    pub(super) fn retire(
-        &mut self,
-        graph: &mut ContactGraph,
-        groups: &mut Groups,
-        view: &WorldView,
-        eid: EdgeId,
-    ) {
+    pub(super) fn retire(&mut self, graph: &mut ContactGraph, view: &WorldView, eid: EdgeId) {
         let step = self.step;
         let Some(e) = graph.edge_mut(eid) else { return };
         if e.walk_stamp == step {
@@ -185,7 +178,6 @@ impl Coherence {
         }
         e.walk_stamp = step;
         let was_proximate = e.cache.proximity;
-        let was_touching = e.cache.touching;
         e.cache.begin_update(!self.skip_details);
         e.updated_step = step;
         let (a, b, kind) = (e.a, e.b, e.kind);
@@ -193,24 +185,18 @@ impl Coherence {
         // Geometric edges live only while the body is inside the trigger, and a passive
         // body has no edges: both go as soon as their end is reported.
         if kind == EdgeKind::Geometric || passive(a) || passive(b) {
+            // Its group drops it by the graph's record of the removal.
             if let Some(e) = graph.remove_edge(eid) {
                 if was_proximate {
                     self.removed_edges.push(e);
                 }
             }
-            if was_touching {
-                groups.disturb(graph, a);
-                groups.disturb(graph, b);
-            }
             return;
         }
         if was_proximate {
-            // Vanished now: report, test for obsolescence from the next update on.
+            // Vanished now: report, test for obsolescence from the next update on (an
+            // ended touch splits its group with the other touched edges).
             self.touched.push(eid);
-            if was_touching {
-                groups.disturb(graph, a);
-                groups.disturb(graph, b);
-            }
             return;
         }
         // The obsolete test recomputes two AABBs; a lingering edge is tested every

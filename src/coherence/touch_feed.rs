@@ -14,7 +14,6 @@ use rapier3d::pipeline::{ActiveEvents, EventHandler};
 use rapier3d::prelude::{ColliderHandle, RigidBodySet};
 
 use crate::graph::{ContactGraph, EdgeId, EdgeKind};
-use crate::groups::Groups;
 use crate::WorldView;
 
 use super::*;
@@ -330,7 +329,6 @@ impl Coherence {
     pub(super) fn apply_touch_events(
         &mut self,
         graph: &mut ContactGraph,
-        groups: &mut Groups,
         view: &WorldView,
         screen: &Screen,
         events: &[TouchEvent],
@@ -372,7 +370,7 @@ impl Coherence {
                 };
             }
         }
-        self.settle_touch_edges(graph, groups, &changed);
+        self.settle_touch_edges(graph, &changed);
     }
 
     /// Reads the touching pairs of the given colliders (flagged late) or, with `all`,
@@ -381,7 +379,6 @@ impl Coherence {
     pub(super) fn rescan_touching(
         &mut self,
         graph: &mut ContactGraph,
-        groups: &mut Groups,
         view: &WorldView,
         screen: &Screen,
         colliders: &[ColliderHandle],
@@ -483,7 +480,7 @@ impl Coherence {
                 e.cache.collider_pairs = want;
             }
         }
-        self.settle_touch_edges(graph, groups, &changed);
+        self.settle_touch_edges(graph, &changed);
     }
 
     /// Starts this step's update of a physical edge in touching tracking (once per
@@ -512,12 +509,7 @@ impl Coherence {
     /// the same here) from the count; an edge left with no touching pair is removed
     /// and reported with its `Vanished` marks; the others are this step's touched
     /// edges. Both ends of an edge whose touching changed are regrouped.
-    fn settle_touch_edges(
-        &mut self,
-        graph: &mut ContactGraph,
-        groups: &mut Groups,
-        changed: &[EdgeId],
-    ) {
+    fn settle_touch_edges(&mut self, graph: &mut ContactGraph, changed: &[EdgeId]) {
         for &eid in changed {
             let Some(e) = graph.edge_mut(eid) else {
                 continue;
@@ -527,11 +519,9 @@ impl Coherence {
             e.cache.proximity = touching;
             // No solver contact is read here: the count is of touching collider pairs.
             e.cache.contact_count = e.cache.collider_pairs;
-            let (a, b, was) = (e.a, e.b, e.cache.touching_old);
-            if was != touching {
-                groups.disturb(graph, a);
-                groups.disturb(graph, b);
-            }
+            let was = e.cache.touching_old;
+            // A touch that began merges groups (the edge is touched); one that ended
+            // leaves its group by the graph's record of the removal.
             if touching {
                 self.touched.push(eid);
                 self.counters.edges += 1;

@@ -166,6 +166,7 @@ impl Coherence {
         self.created.clear();
         self.sleep_changes.clear();
         self.passive_changed.clear();
+        self.awake_flips.clear();
         self.kind_changes = 0;
         self.counters = WalkCounters::default();
 
@@ -282,13 +283,13 @@ impl Coherence {
         // flagged late).
         let scan = scan && touch.is_none();
         if let Some(events) = touch {
-            self.apply_touch_events(graph, groups, view, screen, events);
+            self.apply_touch_events(graph, view, screen, events);
             let late = std::mem::take(&mut self.touch_rescan);
             if requested || switched {
                 self.stale.clear();
-                self.rescan_touching(graph, groups, view, screen, &[], true);
+                self.rescan_touching(graph, view, screen, &[], true);
             } else if !late.is_empty() || !self.stale.is_empty() {
-                self.rescan_touching(graph, groups, view, screen, &late, false);
+                self.rescan_touching(graph, view, screen, &late, false);
             }
             self.counters.bodies = walk.len();
         } else if scan {
@@ -363,7 +364,7 @@ impl Coherence {
             }
             for i in 0..self.dead.len() {
                 let eid = self.dead[i];
-                self.retire(graph, groups, view, eid);
+                self.retire(graph, view, eid);
             }
         }
         for &me in walk.iter().filter(|_| !scan).chain(triggers.iter()) {
@@ -383,27 +384,28 @@ impl Coherence {
             }
             for i in 0..self.dead.len() {
                 let eid = self.dead[i];
-                self.retire(graph, groups, view, eid);
+                self.retire(graph, view, eid);
             }
         }
         self.triggers = triggers;
 
-        // Groups change only where structure changed: a contact started or ended, a
-        // body woke, slept, became passive (above), changed kind or appeared (in
-        // `take_dropped` and node upkeep). A refreshed body without a group (first
-        // seen, released) is a root too.
-        for i in 0..self.touched.len() {
-            let Some(e) = graph.edge(self.touched[i]) else {
+        // Groups change only where structure changed: a contact started or ended (a
+        // merge or a split), a body woke or slept (its group's sleep), became passive
+        // (above), changed kind or appeared (in `take_dropped` and node upkeep: those
+        // are rebuilt). A refreshed body without a group (first seen, released) is a
+        // root too.
+        // Touches that began or ended merge or split groups; an edge removed from the
+        // graph is taken out of its group by the graph's own record.
+        for &eid in &self.touched {
+            let Some(e) = graph.edge(eid) else {
                 continue;
             };
             if e.kind == EdgeKind::Physical && e.cache.touching != e.cache.touching_old {
-                let (a, b) = (e.a, e.b);
-                groups.disturb(graph, a);
-                groups.disturb(graph, b);
+                groups.touch_changed(eid, e.cache.touching);
             }
         }
-        for &(n, _) in &self.sleep_changes {
-            groups.disturb(graph, n);
+        for &n in &self.awake_flips {
+            groups.awake_changed(n);
         }
         for &me in &walk {
             let ungrouped = graph
@@ -485,7 +487,11 @@ impl Coherence {
             n.collider_sig = sig;
             let was_passive = n.passive;
             n.seen_step = step;
+            let was_awake = n.awake;
             n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
+            if was_awake != n.awake && n.group.is_some() {
+                self.awake_flips.push(id);
+            }
             n.non_finite = !finite;
             n.passive = !enabled
                 && self

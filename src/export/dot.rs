@@ -400,6 +400,9 @@ mod tests {
         for step in 0..steps {
             scene.before_step(step);
             layer.step(&mut scene.world);
+            if let Err(e) = layer.validate(&scene.world) {
+                panic!("step {step}: {e}");
+            }
         }
         layer
     }

@@ -162,6 +162,34 @@ pub struct Edge {
     pub(crate) colour_stamp: u64,
     /// Per-step scratch: the collider-pair walk reached this edge in this step.
     pub(crate) walk_stamp: u64,
+    /// The edge's position in its group's edge list, [`NO_SLOT`] when it is in none
+    /// (the edge is in group `g` exactly when `g.edges[group_slot]` is this edge).
+    /// Not saved: a restore rebuilds it from the groups.
+    #[cfg_attr(feature = "serde", serde(skip, default = "no_slot"))]
+    pub(crate) group_slot: u32,
+    /// The contact count the edge's group has counted for it (the group follows the
+    /// edge's count by differences).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) group_counted: u32,
+}
+
+/// `Edge::group_slot` of an edge in no group.
+pub(crate) const NO_SLOT: u32 = u32::MAX;
+
+#[cfg(feature = "serde")]
+fn no_slot() -> u32 {
+    NO_SLOT
+}
+
+/// A joining edge (physical or structural) removed from the graph, waiting for the
+/// groups to take it out of the group that held it (see [`crate::Groups`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LeftEdge {
+    pub(crate) id: crate::graph::EdgeId,
+    pub(crate) a: NodeId,
+    pub(crate) b: NodeId,
+    pub(crate) slot: u32,
+    pub(crate) counted: u32,
 }
 
 impl Edge {
@@ -176,6 +204,8 @@ impl Edge {
             created_step: step,
             colour_stamp: 0,
             walk_stamp: 0,
+            group_slot: NO_SLOT,
+            group_counted: 0,
         }
     }
 

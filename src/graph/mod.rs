@@ -34,6 +34,7 @@ use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 pub(crate) use crate::util::arena::Arena;
 pub use crate::util::id::{EdgeId, NodeId, PairBuildHasher, PairHasher, PairKey};
 pub use edge::{ContactCache, Edge, EdgeKind, Transition};
+pub(crate) use edge::{LeftEdge, NO_SLOT};
 pub use node::{Category, ContainerSource, Node, NodeKind, NodeSource};
 
 use crate::{Error, Result};
@@ -64,6 +65,10 @@ pub struct ContactGraph {
     /// Nodes whose Rapier slot was taken by a newer object (so their object is gone),
     /// waiting to be removed and reported by the layer.
     pub(crate) evicted: Vec<NodeId>,
+    /// Joining edges removed since the groups last looked (they take them out of
+    /// their groups in O(1) each). Per-step scratch.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) left: Vec<LeftEdge>,
 }
 
 fn kind_slot(kind: NodeKind) -> usize {
@@ -503,6 +508,15 @@ impl ContactGraph {
     pub(crate) fn remove_edge(&mut self, id: EdgeId) -> Option<Edge> {
         let edge = self.edges.remove(id.index(), id.generation())?;
         self.pairs.remove(&PairKey::of(edge.a, edge.b));
+        if edge.group_slot != NO_SLOT {
+            self.left.push(LeftEdge {
+                id,
+                a: edge.a,
+                b: edge.b,
+                slot: edge.group_slot,
+                counted: edge.group_counted,
+            });
+        }
         for n in [edge.a, edge.b] {
             if let Some(node) = self.node_mut(n) {
                 if let Some(pos) = node.edges.iter().position(|&e| e == id) {

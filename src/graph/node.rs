@@ -151,6 +151,10 @@ pub struct Node {
     /// ([`crate::graph::mirror::colliders_sig`]; 0: not known yet).
     #[cfg_attr(feature = "serde", serde(default))]
     pub(crate) collider_sig: u64,
+    /// The node's position in its group's member list (a hint checked on use;
+    /// rebuilt on restore, see [`crate::Groups`]).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) group_slot: u32,
 }
 
 impl Node {
@@ -170,6 +174,7 @@ impl Node {
             reported_awake: None,
             collider_count: 0,
             collider_sig: 0,
+            group_slot: 0,
         }
     }
 

@@ -232,14 +232,8 @@ impl ContactLayer {
     /// Whether a node insulates groups: fixed and scripted bodies, and sleepy bodies
     /// under subgrouping.
     pub fn insulates(&self, n: NodeId) -> bool {
-        let Some(node) = self.graph.node(n) else {
-            return false;
-        };
-        node.kind().is_insulator()
-            || match self.speedups() {
-                Some(s) if s.config().subgroup => node.body().is_some_and(|h| s.is_sleepy(h)),
-                _ => false,
-            }
+        let subgroup = self.speedups().is_some_and(|s| s.config().subgroup);
+        super::step::insulates(&self.graph, n, subgroup, self.speedups())
     }
 
     /// [`Self::validate`] for a world given by its parts.

@@ -113,6 +113,33 @@ impl ContactLayer {
         self.logic.release(&self.graph, &mut world);
     }
 
+    /// Finishes every deferred group split now, so that [`Self::groups`] equals a
+    /// from-scratch traversal of the paper's Figs. 7–8 exactly. Without it, a group
+    /// whose split the bounded local search could not settle is split by traversal in
+    /// a later step (one per step, the sleepiest first), and meanwhile holds two or
+    /// more whole groups (see [`crate::Groups::deferred`]). O(members + edges of the
+    /// deferred groups); O(1) when none is deferred.
+    pub fn settle_groups(&mut self) {
+        if self.groups.deferred().is_empty() || !self.grouping() {
+            return;
+        }
+        let subgroup = self.speedups().is_some_and(|s| s.config().subgroup);
+        let speedups = self.speedups.as_ref();
+        let step = self.coherence.step();
+        self.groups.settle(&mut self.graph, step, &|g, n| {
+            insulates(g, n, subgroup, speedups)
+        });
+        self.stats.groups = self.groups.stats();
+    }
+
+    /// Sets how many node expansions the local search after an ended contact may make
+    /// before it defers the group's split ([`crate::Groups::DEFAULT_SPLIT_BUDGET`] by
+    /// default, Rapier's own figure). A larger budget splits more groups at once, a
+    /// smaller one bounds the cost of an ended contact more tightly. O(1).
+    pub fn set_group_split_budget(&mut self, budget: u32) {
+        self.groups.set_split_budget(budget);
+    }
+
     /// The post-step analysis alone, for users who step Rapier themselves (their own
     /// `PhysicsPipeline::step` or `PhysicsWorld::step_with_events`). Call it once after
     /// every step.
@@ -191,27 +218,27 @@ impl ContactLayer {
             Some(s) if !s.is_detached() => (s.config().groups, s.config().subgroup),
             _ => (true, false),
         };
-        if !grouping && !self.groups.is_empty() {
-            // Groups switched off: forget them (once).
-            let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
-            for id in ids {
-                self.groups.dissolve(&mut self.graph, id);
+        if !grouping {
+            // Groups switched off: forget them (once), and the step's queued changes.
+            if !self.groups.is_empty() {
+                let ids: Vec<_> = self.groups.iter().map(|(id, _)| id).collect();
+                for id in ids {
+                    self.groups.dissolve(&mut self.graph, id);
+                }
             }
             self.groups.clear_roots();
         }
         if grouping {
             let speedups = self.speedups.as_ref();
-            self.groups.rebuild(&mut self.graph, step, &|g, n| {
-                let Some(node) = g.node(n) else { return false };
-                node.kind().is_insulator()
-                    || (subgroup
-                        && node
-                            .body()
-                            .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
-            });
-            self.groups
-                .apply_contact_deltas(&self.graph, self.coherence.touched_edges(), step);
+            self.groups.update(
+                &mut self.graph,
+                step,
+                &|g, n| insulates(g, n, subgroup, speedups),
+                self.coherence.touched_edges(),
+            );
         }
+        // The removed edges' records are the groups' alone.
+        self.graph.left.clear();
         if let Some(s) = &mut self.speedups {
             s.decide(
                 &self.graph,
@@ -309,4 +336,20 @@ impl ContactLayer {
         };
         self.stats
     }
+}
+
+/// Whether node `n` insulates groups: fixed and scripted bodies, and sleepy bodies
+/// under subgrouping.
+pub(super) fn insulates(
+    g: &crate::ContactGraph,
+    n: crate::NodeId,
+    subgroup: bool,
+    speedups: Option<&crate::speedups::SpeedUpState>,
+) -> bool {
+    let Some(node) = g.node(n) else { return false };
+    node.kind().is_insulator()
+        || (subgroup
+            && node
+                .body()
+                .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
 }
