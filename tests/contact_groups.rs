@@ -3,46 +3,13 @@
 
 mod common;
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 
 use common::build::box_at;
-use petgraph::unionfind::UnionFind;
+use common::groups::components;
 use rapier3d::prelude::*;
-use rapier_contact_graph::{ContactLayer, EdgeKind, NodeId};
+use rapier_contact_graph::{ContactLayer, NodeId};
 use rcg_scenes::{self as scenes, Scene};
-
-/// The partition of simulated bodies into groups, by petgraph's union-find over the
-/// touching and structural edges whose ends are not insulators.
-fn components(layer: &ContactLayer) -> BTreeSet<BTreeSet<NodeId>> {
-    let g = layer.graph();
-    let slots = g
-        .nodes()
-        .map(|(id, _)| id.index() as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut uf = UnionFind::<usize>::new(slots);
-    for (_, e) in g.edges() {
-        let joins = match e.kind() {
-            EdgeKind::Physical => e.is_touching(),
-            EdgeKind::Structural => true,
-            _ => false,
-        };
-        let ins = |n| g.node(n).unwrap().kind().is_insulator();
-        if joins && !ins(e.a()) && !ins(e.b()) {
-            uf.union(e.a().index() as usize, e.b().index() as usize);
-        }
-    }
-    let mut parts: HashMap<usize, BTreeSet<NodeId>> = HashMap::new();
-    for (id, n) in g.nodes() {
-        if n.kind().is_simulated() {
-            parts
-                .entry(uf.find(id.index() as usize))
-                .or_default()
-                .insert(id);
-        }
-    }
-    parts.into_values().collect()
-}
 
 fn groups(layer: &ContactLayer) -> BTreeSet<BTreeSet<NodeId>> {
     layer

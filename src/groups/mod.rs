@@ -14,21 +14,24 @@
 //! islands (`island_manager/local_split.rs`), Box2D v3's islands and Avian's
 //! `islands/mod.rs` keep theirs:
 //!
-//! - **Merge when a contact begins** ([`incremental`]): the smaller group's members
+//! - **Merge when a contact begins** (`incremental.rs`): the smaller group's members
 //!   and edges move into the larger one. O(smaller group).
-//! - **Split lazily when contacts end** ([`split`]): the ends of the step's ended
-//!   edges in a group are its *seeds*; the group was connected, so every part it may
-//!   have fallen into holds a seed. Two seeds at a time are joined by a bounded search
-//!   from both at once, alternating: if one side meets the other, the second seed is
-//!   dropped; if one side runs out of nodes first, that side is a whole part and moves
-//!   to a new group with its seeds (the search stops at the smaller side, so the cost
-//!   is the smaller part). If neither happens within the budget
-//!   ([`Groups::DEFAULT_SPLIT_BUDGET`] node expansions, Rapier's figure; it settles
-//!   99.98% of removals on a 43k-body pyramid), the group is **deferred**.
+//! - **Split lazily when contacts end** (`split.rs`): a connected group stays
+//!   connected exactly when the two ends of every ended edge still reach each other.
+//!   Each ended edge is checked by a bounded search from both ends at once,
+//!   alternating one node expansion each: if one side meets the other, nothing
+//!   changes; if one side runs out of nodes first, that side is a whole part and
+//!   moves to a new group (the search stops at the smaller side, so the cost is the
+//!   smaller part). Once a part has left, the rest may have hung together through
+//!   it: the rest's ends of the ended edges to that part are joined pairwise by the
+//!   same search (they are the part's neighbours, so the searches are short). If a
+//!   search exceeds the budget ([`Groups::DEFAULT_SPLIT_BUDGET`] node expansions,
+//!   Rapier's figure; it settles 99.98% of removals on a 43k-body pyramid), the group
+//!   is **deferred**.
 //! - **At most one full split per step**: of the deferred groups, the one with the
 //!   fewest awake members (the sleepiest, as Box2D and Avian choose), then the lowest
-//!   id, is rebuilt by the paper's traversal. [`Groups::settle`] (through
-//!   [`crate::ContactLayer::settle_groups`]) rebuilds all of them at once.
+//!   id, is rebuilt by the paper's traversal. [`crate::ContactLayer::settle_groups`]
+//!   rebuilds all of them at once.
 //! - Everything else that changes which bodies may be grouped (a body added, removed,
 //!   made passive, changing kind; under subgrouping a body becoming sleepy or not)
 //!   dissolves the groups concerned and the traversal rebuilds them from their

@@ -5,6 +5,7 @@
 //! - [`audit`]: the bad-input audit's helpers (`no_panic`, stale and foreign ids, the
 //!   ball-on-ground world the `bad_input_*` tests start from);
 //! - [`contract`]: a subscriber that checks the listener contract of `events`;
+//! - [`groups`]: contact groups computed independently (petgraph's union-find);
 //! - [`scene`]: running a scene validated after every step, and naming its nodes for
 //!   snapshots (re-exported here).
 //!
@@ -17,6 +18,7 @@
 pub mod audit;
 pub mod build;
 pub mod contract;
+pub mod groups;
 pub mod scene;
 
 // The scene helpers predate this index; their callers name them `common::...`.
