@@ -237,6 +237,7 @@ pub struct Groups {
     changed: usize,
 }
 
+#[cfg(feature = "serde")]
 fn default_budget() -> u32 {
     Groups::DEFAULT_SPLIT_BUDGET
 }
