@@ -114,10 +114,11 @@
 //!   too; hide the axes with `DebugRenderMode` (drop `RIGID_BODY_AXES`) instead. Backends
 //!   that recolour by object (bevy_rapier's `ColliderDebugColor`) recolour only the
 //!   markers of colliders without a body, which carry no state.
-//! - **Group colours are stable.** A group is rebuilt, under a new
-//!   [`GroupId`](crate::GroupId), whenever its structure changes (a contact begins or
-//!   ends anywhere in it, a member wakes up or falls asleep), so a colour hashed from the
-//!   id would jump whenever a ball lands on a pile. The colour is keyed instead by the
+//! - **Group colours are stable.** A group keeps its [`GroupId`](crate::GroupId) while
+//!   smaller groups merge into it and parts split off it, but the smaller group of a
+//!   merge ends, and a group is rebuilt under a new id when a member is removed, made
+//!   passive or changes kind, so a colour hashed from the id would jump whenever a
+//!   group merges into a larger one or a body of a pile is fixated. The colour is keyed instead by the
 //!   group's smallest member slot index ([`group_key`]), which stays while that body is
 //!   in the group; when two groups merge, the result keeps the colour of one of them. The
 //!   hue is the golden-ratio sequence `360° · frac(key · 0.618…)`: distinct keys get

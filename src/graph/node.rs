@@ -235,7 +235,7 @@ impl Node {
     pub fn is_passive(&self) -> bool {
         self.passive
     }
-    /// The contact group the node belonged to at the last update (`None` for insulators,
+    /// The contact group the node is in since the last update (`None` for insulators,
     /// logical nodes and bodies not yet grouped).
     #[inline]
     pub fn group(&self) -> Option<crate::GroupId> {

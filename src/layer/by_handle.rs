@@ -144,9 +144,12 @@ impl ContactLayer {
 
     /// The bodies of `body`'s contact group (paper §4: bodies connected through
     /// touching contacts and joints, fixed and kinematic bodies insulating), itself
-    /// included, in traversal order. Empty for a body in no group (fixed, kinematic,
-    /// passive, inserted since the last step, or groups off); `Err(UnknownBody)` for a
-    /// body `bodies` lacks. O(group size).
+    /// included, in the group's member order (deterministic, not sorted). Empty for a
+    /// body in no group (fixed, kinematic, passive, inserted since the last step, or
+    /// groups off); `Err(UnknownBody)` for a body `bodies` lacks. While the group's
+    /// split is deferred ([`crate::Groups::deferred`]) it may also hold bodies that no
+    /// longer touch this one; [`Self::settle_groups`] finishes the split. O(group
+    /// size).
     pub fn group_of_body(
         &self,
         bodies: &RigidBodySet,

@@ -15,8 +15,10 @@ impl ContactLayer {
     /// Runs the pre-step ([`Self::pre_step`]), one Rapier step with the layer's hooks,
     /// then the analysis ([`Self::analyze`]).
     ///
-    /// Cost: Rapier's step, plus the analysis: O(pairs of awake bodies + members of the
-    /// rebuilt groups + events), plus O(bodies + colliders) on a step where their count
+    /// Cost: Rapier's step, plus the analysis: O(pairs of awake bodies + events) (with
+    /// touching tracking O(awake bodies + touch events)), plus the groups' changes
+    /// (O(smaller group) per merge, a bounded local search per ended touch, O(members)
+    /// of a rebuilt group), plus O(bodies + colliders) on a step where their count
     /// changed.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
         self.pre_step(WorldMut::from(&mut *world));
