@@ -390,12 +390,11 @@ impl Coherence {
         self.triggers = triggers;
 
         // Groups change only where structure changed: a contact started or ended (a
-        // merge or a split), a body woke or slept (its group's sleep), became passive
+        // merge or a split; an edge removed from the graph leaves its group by the
+        // graph's own record), a body woke or slept (its group's sleep), became passive
         // (above), changed kind or appeared (in `take_dropped` and node upkeep: those
         // are rebuilt). A refreshed body without a group (first seen, released) is a
         // root too.
-        // Touches that began or ended merge or split groups; an edge removed from the
-        // graph is taken out of its group by the graph's own record.
         for &eid in &self.touched {
             let Some(e) = graph.edge(eid) else {
                 continue;

@@ -106,10 +106,11 @@ impl Groups {
     }
 
     /// Checks every group against the graph as a from-scratch traversal would build
-    /// it: members are simulated, non-passive, non-insulating nodes that know their
-    /// place; the group's edges are exactly the joining edges of its members, each
-    /// knowing its place and counted contacts; its insulators exactly the far ends of
-    /// those edges, with their edge counts; its awake count and sleep the members';
+    /// it: members are live, simulated, non-passive, non-insulating nodes pointing
+    /// back and knowing their place; the group's edges are exactly the joining edges
+    /// of its members (so none joins another member), each knowing its place and
+    /// counted contacts, which sum to the group's; its insulators exactly the far ends
+    /// of those edges, with their edge counts; its awake count and sleep the members';
     /// and it is connected, unless its split is deferred. O(members + edges).
     pub(crate) fn verify(
         &self,
@@ -129,6 +130,12 @@ impl Groups {
                 if !member_kind(node.kind) || node.passive || insulates(n) {
                     return Err(format!(
                         "group {gid:?} holds {n:?}, which cannot be a member"
+                    ));
+                }
+                if node.group != Some(gid) {
+                    return Err(format!(
+                        "node {n:?} is in group {gid:?} but points to {:?}",
+                        node.group
                     ));
                 }
                 if node.group_slot as usize != slot {
@@ -164,14 +171,25 @@ impl Groups {
                 }
                 counted = counted.saturating_add(e.group_counted);
                 let inside = |n| graph.node(n).and_then(|n| n.group) == Some(gid);
-                match (inside(e.a), inside(e.b)) {
-                    (true, true) => {}
-                    (true, false) => ends.push(e.b),
-                    (false, true) => ends.push(e.a),
+                let far = match (inside(e.a), inside(e.b)) {
+                    (true, true) => continue,
+                    (true, false) => e.b,
+                    (false, true) => e.a,
                     (false, false) => {
                         return Err(format!("edge {eid:?} of {gid:?} has no end in it"));
                     }
+                };
+                // The far end insulates; a member there would be a second group joined.
+                let member = graph
+                    .node(far)
+                    .is_some_and(|f| member_kind(f.kind) && !f.passive && !insulates(far));
+                if member {
+                    return Err(format!(
+                        "edge {eid:?} joins groups {gid:?} and {:?}",
+                        graph.node(far).and_then(|f| f.group)
+                    ));
                 }
+                ends.push(far);
             }
             ends.sort_unstable();
             let mut links: Vec<(NodeId, u32)> = Vec::new();
@@ -198,10 +216,10 @@ impl Groups {
                     g.awake, g.asleep
                 ));
             }
-            if counted != g.contacts {
+            if counted != g.contacts || g.variables != 3 * counted {
                 return Err(format!(
-                    "group {gid:?} counts {} contacts, its edges {counted}",
-                    g.contacts
+                    "group {gid:?} counts {} contacts / {} variables, its edges {counted}",
+                    g.contacts, g.variables
                 ));
             }
             if self.is_deferred(gid) || g.bodies.is_empty() {

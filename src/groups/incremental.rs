@@ -148,19 +148,14 @@ impl Groups {
         let in_b = graph.node(b).and_then(|n| n.group) == Some(gid);
         self.file_out(gid);
         if let Some(g) = self.arena.get_mut(gid.index(), gid.generation()) {
-            g.edges.swap_remove(pos);
-            if let Some(&moved) = g.edges.get(pos) {
-                if let Some(e) = graph.edge_mut(moved) {
-                    e.group_slot = pos as u32;
-                }
-            }
+            g.take_edge_at(graph, pos);
             g.contacts = g.contacts.saturating_sub(counted);
             match (in_a, in_b) {
                 (true, false) => g.unlink(b),
                 (false, true) => g.unlink(a),
                 _ => {}
             }
-            g.built_step = step_of(g.built_step, graph.clock);
+            g.built_step = graph.clock; // the step being analysed
         }
         if let Some(e) = graph.edge_mut(eid) {
             e.group_slot = NO_SLOT;
@@ -177,7 +172,7 @@ impl Groups {
         if !traversable(e.kind, e.cache.touching) {
             return;
         }
-        let (a, b, slot) = (e.a, e.b, e.group_slot);
+        let (a, b, slot, counted) = (e.a, e.b, e.group_slot, e.cache.contact_count);
         let member = |graph: &ContactGraph, n: NodeId| {
             graph
                 .node(n)
@@ -210,7 +205,6 @@ impl Groups {
             (Some(x), Some(y)) if x != y => self.merge(graph, x, y, step),
             _ => first,
         };
-        let counted = graph.edge(eid).map_or(0, |e| e.cache.contact_count);
         self.file_out(gid);
         if let Some(g) = self.arena.get_mut(gid.index(), gid.generation()) {
             let slot = g.edges.len() as u32;
@@ -319,10 +313,4 @@ pub(super) fn group_of_ends(graph: &ContactGraph, a: NodeId, b: NodeId) -> Optio
         .node(a)
         .and_then(|n| n.group)
         .or_else(|| graph.node(b).and_then(|n| n.group))
-}
-
-/// The step a group changed in: the graph's clock (the step being analysed), never
-/// going back.
-fn step_of(built: u64, clock: u64) -> u64 {
-    built.max(clock)
 }

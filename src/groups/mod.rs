@@ -143,6 +143,27 @@ impl Group {
         }
     }
 
+    /// Takes the edge at `pos` out of the list; the last edge takes its place and is
+    /// told its new position. O(1).
+    fn take_edge_at(&mut self, graph: &mut ContactGraph, pos: usize) {
+        self.edges.swap_remove(pos);
+        if let Some(e) = self.edges.get(pos).and_then(|&moved| graph.edge_mut(moved)) {
+            e.group_slot = pos as u32;
+        }
+    }
+
+    /// Takes the member at `pos` out of the list, as [`Self::take_edge_at`]. O(1).
+    fn take_body_at(&mut self, graph: &mut ContactGraph, pos: usize) {
+        self.bodies.swap_remove(pos);
+        if let Some(n) = self
+            .bodies
+            .get(pos)
+            .and_then(|&moved| graph.node_mut(moved))
+        {
+            n.group_slot = pos as u32;
+        }
+    }
+
     /// Counts one edge less to insulator `n`; the insulator goes with its last edge.
     fn unlink(&mut self, n: NodeId) {
         if let Ok(i) = self.insulators.binary_search(&n) {
@@ -437,7 +458,7 @@ impl Groups {
     }
 
     /// Forgets the queued work (groups switched off).
-    pub(crate) fn clear_roots(&mut self) {
+    pub(crate) fn clear_queued(&mut self) {
         self.roots.clear();
         self.began.clear();
         self.ended.clear();

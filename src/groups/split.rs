@@ -227,12 +227,7 @@ impl Groups {
                     fresh.awake += 1;
                 }
                 if let Some(pos) = pos {
-                    g.bodies.swap_remove(pos);
-                    if let Some(&moved) = g.bodies.get(pos) {
-                        if let Some(m) = graph.node_mut(moved) {
-                            m.group_slot = pos as u32;
-                        }
-                    }
+                    g.take_body_at(graph, pos);
                 }
                 fresh.bodies.push(n);
             }
@@ -252,12 +247,7 @@ impl Groups {
                     }
                     let counted = e.group_counted;
                     let far = e.other(n);
-                    g.edges.swap_remove(slot);
-                    if let Some(&moved) = g.edges.get(slot) {
-                        if let Some(m) = graph.edge_mut(moved) {
-                            m.group_slot = slot as u32;
-                        }
-                    }
+                    g.take_edge_at(graph, slot);
                     if let Some(e) = graph.edge_mut(eid) {
                         e.group_slot = fresh.edges.len() as u32;
                     }

@@ -232,8 +232,7 @@ impl ContactLayer {
     /// Whether a node insulates groups: fixed and scripted bodies, and sleepy bodies
     /// under subgrouping.
     pub fn insulates(&self, n: NodeId) -> bool {
-        let subgroup = self.speedups().is_some_and(|s| s.config().subgroup);
-        super::step::insulates(&self.graph, n, subgroup, self.speedups())
+        super::step::insulates(&self.graph, n, self.speedups.as_ref())
     }
 
     /// [`Self::validate`] for a world given by its parts.

@@ -125,12 +125,10 @@ impl ContactLayer {
         if self.groups.deferred().is_empty() || !self.grouping() {
             return;
         }
-        let subgroup = self.speedups().is_some_and(|s| s.config().subgroup);
         let speedups = self.speedups.as_ref();
         let step = self.coherence.step();
-        self.groups.settle(&mut self.graph, step, &|g, n| {
-            insulates(g, n, subgroup, speedups)
-        });
+        self.groups
+            .settle(&mut self.graph, step, &|g, n| insulates(g, n, speedups));
         self.stats.groups = self.groups.stats();
     }
 
@@ -216,10 +214,7 @@ impl ContactLayer {
                 }
             }
         }
-        let (grouping, subgroup) = match &self.speedups {
-            Some(s) if !s.is_detached() => (s.config().groups, s.config().subgroup),
-            _ => (true, false),
-        };
+        let grouping = self.grouping();
         if !grouping {
             // Groups switched off: forget them (once), and the step's queued changes.
             if !self.groups.is_empty() {
@@ -228,14 +223,14 @@ impl ContactLayer {
                     self.groups.dissolve(&mut self.graph, id);
                 }
             }
-            self.groups.clear_roots();
+            self.groups.clear_queued();
         }
         if grouping {
             let speedups = self.speedups.as_ref();
             self.groups.update(
                 &mut self.graph,
                 step,
-                &|g, n| insulates(g, n, subgroup, speedups),
+                &|g, n| insulates(g, n, speedups),
                 self.coherence.touched_edges(),
             );
         }
@@ -341,17 +336,15 @@ impl ContactLayer {
 }
 
 /// Whether node `n` insulates groups: fixed and scripted bodies, and sleepy bodies
-/// under subgrouping.
+/// under subgrouping (speed-ups on and not being detached).
 pub(super) fn insulates(
     g: &crate::ContactGraph,
     n: crate::NodeId,
-    subgroup: bool,
     speedups: Option<&crate::speedups::SpeedUpState>,
 ) -> bool {
     let Some(node) = g.node(n) else { return false };
     node.kind().is_insulator()
-        || (subgroup
-            && node
-                .body()
-                .is_some_and(|h| speedups.is_some_and(|s| s.is_sleepy(h))))
+        || speedups.is_some_and(|s| {
+            !s.is_detached() && s.config().subgroup && node.body().is_some_and(|h| s.is_sleepy(h))
+        })
 }
