@@ -72,3 +72,41 @@ fn fixed_a_rule_after_set_parent_is_applied_by_rapier() {
     ];
     run(&ops, true).unwrap();
 }
+
+/// The arena's floor (a fixed body) turned sensor while a ball the speed-ups hold sat
+/// on it: the layer widened the new sensor's collision types, and Rapier found the
+/// held ball inside it only when the ball came back from its one disabled step out
+/// of Rapier's active set. Neither side is refreshed then (a fixed carrier, a held
+/// body), so `validate()` failed with "nodes 6–15 intersect in Rapier but have no
+/// geometric edge" (found by `PROPTEST_CASES=30000`). Passes since the sensor pairs
+/// of a body enabled again after parking are read in that step.
+#[test]
+fn fixed_a_held_ball_parked_in_a_floor_turned_sensor_gets_its_trigger_edge() {
+    let ops = [
+        Op::Ball {
+            x: -4,
+            y: 4,
+            z: 0,
+            r: 1,
+        },
+        Op::SpeedUps(Some(80)),
+        BALL,
+        BALL,
+        Op::Cube {
+            x: 0,
+            y: 0,
+            z: 0,
+            r: 0,
+        },
+        Op::Step(24),
+        BALL,
+        BALL,
+        Op::Step(38),
+        BALL,
+        BALL,
+        Op::Step(1),
+        BALL,
+        Op::ToggleSensor(165),
+    ];
+    run(&ops, true).unwrap();
+}

@@ -178,6 +178,12 @@ pub struct Coherence {
     /// before each update; sorted.
     #[cfg_attr(feature = "serde", serde(skip))]
     parking: Vec<RigidBodyHandle>,
+    /// Held bodies enabled again before this step after their step out of Rapier's
+    /// active set: Rapier pairs their colliders anew, so their sensor pairs are read
+    /// (a sensor widened meanwhile may find them inside; nothing else refreshes a
+    /// held body). Set before each update.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    parked_now: Vec<RigidBodyHandle>,
     /// Bodies in Rapier's active set that Rapier integrates (not fixed) at the last
     /// update.
     #[cfg_attr(feature = "serde", serde(default))]

@@ -308,7 +308,15 @@ impl Coherence {
         // into a sensor gets its trigger in the same step: O(their colliders).
         self.triggers.clear();
         let mut sensors = Vec::new();
-        for &me in &walk {
+        // Held bodies just parked are not refreshed (their frozen contacts stay), but
+        // Rapier paired their colliders anew in this step: their sensor pairs are read.
+        let parked: Vec<NodeId> = self
+            .parked_now
+            .iter()
+            .filter_map(|&h| graph.node_of_body(h))
+            .filter(|&n| graph.node(n).is_some_and(|n| n.seen_step != step))
+            .collect();
+        for &me in walk.iter().chain(&parked) {
             if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
                 if let Some(rb) = view.bodies.get(h) {
                     for &c in rb.colliders() {
@@ -336,7 +344,7 @@ impl Coherence {
         }
         self.read_changed_triggers(graph, view, screen);
         if graph.count_of_kind(NodeKind::Trigger) > 0 {
-            for &me in walk.iter().chain(created_now.iter()) {
+            for &me in walk.iter().chain(&created_now).chain(&parked) {
                 self.walk_body_sensors(graph, view, screen, me);
             }
         }
@@ -546,11 +554,17 @@ impl Coherence {
     }
 
     /// Sets the held bodies that are disabled for this step on their way out of
-    /// Rapier's active set. O(n log n).
-    pub(crate) fn set_parking(&mut self, parking: impl Iterator<Item = RigidBodyHandle>) {
+    /// Rapier's active set, and those enabled again for this step after it. O(n log n).
+    pub(crate) fn set_parking(
+        &mut self,
+        parking: impl Iterator<Item = RigidBodyHandle>,
+        parked_now: &[RigidBodyHandle],
+    ) {
         self.parking.clear();
         self.parking.extend(parking);
         self.parking.sort_unstable_by_key(|h| h.into_raw_parts());
+        self.parked_now.clear();
+        self.parked_now.extend_from_slice(parked_now);
     }
 
     /// The node owning a collider, from the owner table (slow path: Rapier lookups,

@@ -151,8 +151,8 @@ impl ContactLayer {
             force: &force,
         };
         match &self.speedups {
-            Some(s) => self.coherence.set_parking(s.parking()),
-            None => self.coherence.set_parking(std::iter::empty()),
+            Some(s) => self.coherence.set_parking(s.parking(), s.parked_now()),
+            None => self.coherence.set_parking(std::iter::empty(), &[]),
         }
         // Touching tracking: the transitions Rapier sent to the layer's event handler.
         let mut touch_events = std::mem::take(&mut self.touch_events);

@@ -230,6 +230,10 @@ pub struct SpeedUpState {
     /// (`Park::Parking`).
     #[cfg_attr(feature = "serde", serde(default))]
     parking_now: Vec<RigidBodyHandle>,
+    /// Held bodies enabled again by the last pre-step after their step out
+    /// (`Park::Parked` since): Rapier pairs their colliders anew in this step.
+    #[cfg_attr(feature = "serde", serde(default))]
+    parked_now: Vec<RigidBodyHandle>,
     /// Fixations (`false`) and releases (`true`) applied by the last pre-step, in
     /// order: the analysis reports them as sleep and wake.
     #[cfg_attr(feature = "serde", serde(default))]
@@ -318,6 +322,7 @@ impl SpeedUpState {
             to_park: Vec::new(),
             unparked: Default::default(),
             parking_now: Vec::new(),
+            parked_now: Vec::new(),
             hold_changes: Vec::new(),
             held: BTreeMap::new(),
             unsupported: Default::default(),
@@ -405,6 +410,7 @@ impl SpeedUpState {
         self.to_park.clear();
         self.unparked.clear();
         self.parking_now.clear();
+        self.parked_now.clear();
         self.unsupported.clear();
         self.zero_flags.clear();
         self.restored = true;
@@ -675,6 +681,7 @@ impl SpeedUpState {
     /// the world as it is now (the user may have changed them since). O(parking
     /// bodies + candidates' pairs).
     fn park(&mut self, world: &mut WorldMut, user_passive: &dyn Fn(RigidBodyHandle) -> bool) {
+        self.parked_now.clear();
         for h in std::mem::take(&mut self.parking_now) {
             let Some(held) = self.held.get_mut(&key(h)) else {
                 continue;
@@ -682,7 +689,10 @@ impl SpeedUpState {
             if held.park == Park::Parking {
                 held.park = Park::Parked;
                 match world.bodies.get_mut(h) {
-                    Some(rb) if !user_passive(h) => rb.set_enabled(true),
+                    Some(rb) if !user_passive(h) => {
+                        rb.set_enabled(true);
+                        self.parked_now.push(h);
+                    }
                     _ => {}
                 }
             }
@@ -769,6 +779,13 @@ impl SpeedUpState {
     /// active set (they are enabled again at the next pre-step). O(1) per item.
     pub fn parking(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
         self.parking_now.iter().copied()
+    }
+
+    /// The held bodies the last pre-step enabled again after their step out of
+    /// Rapier's active set: Rapier pairs their colliders anew in this step, so a
+    /// sensor widened meanwhile may find them inside. O(1) per item.
+    pub(crate) fn parked_now(&self) -> &[RigidBodyHandle] {
+        &self.parked_now
     }
 
     fn set_modify_flags(&mut self, world: &mut WorldMut, want: &[ColliderHandle]) {
