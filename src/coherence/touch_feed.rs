@@ -469,18 +469,44 @@ impl Coherence {
         targets.sort_unstable();
         targets.dedup();
         let mut changed = Vec::new();
+        // Edges this step's events changed already: settled again with the count read
+        // here, which wins (after a switch from proximity tracking, or for a collider
+        // flagged late, the events alone may have counted from a stale start).
+        let mut again = Vec::new();
         for eid in targets {
             let want = counts.get(&eid).copied().unwrap_or(0);
             let Some(e) = graph.edge(eid) else { continue };
-            if e.cache.collider_pairs == want && (want > 0) == e.cache.touching {
+            // Kept only when already in touching tracking's terms: after proximity
+            // tracking, an edge's contact count is of solver contacts, a proximate
+            // edge need not touch, and an edge whose proximity just ended lingers
+            // for the obsolete pass; here an edge exists only while it touches.
+            let c = &e.cache;
+            if want > 0
+                && c.collider_pairs == want
+                && c.contact_count == want
+                && (want > 0) == c.touching
+                && c.touching == c.proximity
+            {
                 continue;
             }
-            self.begin_touch_update(graph, eid, &mut changed);
+            if e.walk_stamp == step {
+                again.push(eid);
+            } else {
+                self.begin_touch_update(graph, eid, &mut changed);
+            }
             if let Some(e) = graph.edge_mut(eid) {
                 e.cache.collider_pairs = want;
             }
         }
+        if again.is_empty() {
+            self.settle_touch_edges(graph, &changed);
+            return;
+        }
+        changed.extend_from_slice(&again);
         self.settle_touch_edges(graph, &changed);
+        // An edge settled twice is in the touched list twice: keep the first.
+        let mut seen = std::collections::HashSet::new();
+        self.touched.retain(|e| seen.insert(*e));
     }
 
     /// Starts this step's update of a physical edge in touching tracking (once per

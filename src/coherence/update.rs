@@ -284,6 +284,13 @@ impl Coherence {
         let scan = scan && touch.is_none();
         if let Some(events) = touch {
             self.apply_touch_events(graph, view, screen, events);
+            // A body disabled (made passive, or by Rapier's quarantine) loses its
+            // pairs without a `Stopped`; one enabled again regains them; a body whose
+            // collider was removed gets a `Stopped` that names a collider no longer
+            // in Rapier (its owner unknown once the counts changed): their touching
+            // pairs are counted again.
+            self.stale.extend_from_slice(&self.passive_changed);
+            self.stale.extend_from_slice(&resized);
             let late = std::mem::take(&mut self.touch_rescan);
             if requested || switched {
                 self.stale.clear();
@@ -487,9 +494,22 @@ impl Coherence {
         if resigned {
             self.colliders_moved(graph, view, id, h);
         }
+        // Under touching tracking, a collider of this body disabled or enabled again
+        // in place: its pairs went or come without a `Stopped` Rapier would send
+        // (those of pairs touching before the layer flagged them), so they are
+        // counted again. Proximity tracking reads the pairs of refreshed bodies
+        // anyway.
+        let disabled = match (rb, self.tracking) {
+            (Some(rb), Tracking::Touching) => nodes::disabled_sig(view, rb.colliders()),
+            _ => 0,
+        };
         if let Some(n) = graph.node_mut(id) {
             if n.seen_step == step {
                 return;
+            }
+            if n.disabled_sig != disabled {
+                n.disabled_sig = disabled;
+                self.stale.push(id);
             }
             n.collider_sig = sig;
             let was_passive = n.passive;

@@ -85,6 +85,23 @@ pub(crate) fn colliders_sig(colliders: &[ColliderHandle]) -> u64 {
     h | 1
 }
 
+/// A signature of which of a body's colliders are disabled (their own flag or by
+/// their parent), 0 when none is: order-insensitive, so a change in the set shows
+/// whatever the collider order. O(its colliders), one collider lookup each.
+pub(crate) fn disabled_sig(view: &WorldView, colliders: &[ColliderHandle]) -> u64 {
+    let mut h = 0u64;
+    for &c in colliders {
+        if view.colliders.get(c).is_some_and(|co| !co.is_enabled()) {
+            let (i, g) = c.into_raw_parts();
+            h ^= ((u64::from(i) << 32) | u64::from(g))
+                .wrapping_add(0x9E37_79B9_7F4A_7C15)
+                .wrapping_mul(0xBF58_476D_1CE4_E5B9)
+                | 1;
+        }
+    }
+    h
+}
+
 /// Whether a collider still belongs to the node standing for `source` (its parent
 /// body's, or its own as static geometry). O(1).
 pub(crate) fn owns(view: &WorldView, collider: ColliderHandle, source: NodeSource) -> bool {

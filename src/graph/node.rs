@@ -151,6 +151,12 @@ pub struct Node {
     /// ([`crate::graph::mirror::colliders_sig`]; 0: not known yet).
     #[cfg_attr(feature = "serde", serde(default))]
     pub(crate) collider_sig: u64,
+    /// For a body, under touching tracking: a signature of which of its colliders are
+    /// disabled when last refreshed ([`crate::graph::mirror::disabled_sig`]; 0: none).
+    /// Rapier drops a disabled collider's pairs and sends `Stopped` only for pairs
+    /// that sent `Started`: a change re-counts the body's touching pairs.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) disabled_sig: u64,
     /// The node's position in its group's member list (a hint checked on use;
     /// rebuilt on restore, see [`crate::Groups`]).
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -174,6 +180,7 @@ impl Node {
             reported_awake: None,
             collider_count: 0,
             collider_sig: 0,
+            disabled_sig: 0,
             group_slot: 0,
         }
     }

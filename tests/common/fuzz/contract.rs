@@ -10,8 +10,10 @@ use rapier_contact_graph::{
 };
 
 /// The listener contract, checked event by event (our own checker).
-#[derive(Default)]
 pub(super) struct Contract {
+    /// Whether the checked stream carries the proximity kinds (the base subscriber
+    /// of touching mode does not: its touches are checked without proximity spans).
+    proximity: bool,
     prox: HashSet<(NodeId, NodeId)>,
     touch: HashSet<(NodeId, NodeId)>,
     inside: HashSet<(NodeId, NodeId)>,
@@ -27,6 +29,17 @@ pub(super) struct InForce {
 }
 
 impl Contract {
+    pub(super) fn new(proximity: bool) -> Self {
+        Self {
+            proximity,
+            prox: HashSet::new(),
+            touch: HashSet::new(),
+            inside: HashSet::new(),
+            asleep: HashMap::new(),
+            ticks: HashMap::new(),
+        }
+    }
+
     pub(super) fn check(
         &mut self,
         ev: &Event,
@@ -83,7 +96,7 @@ impl Contract {
                         }
                     }
                     TouchBegin => {
-                        if !self.prox.contains(&k) {
+                        if self.proximity && !self.prox.contains(&k) {
                             return bad("touch outside proximity");
                         }
                         if !self.touch.insert(k) {
@@ -172,6 +185,9 @@ impl Contract {
             }
         }
         let mut out = String::new();
+        if !self.proximity {
+            prox.clear();
+        }
         for (what, graph, stream) in [
             ("proximity", &prox, &self.prox),
             ("touch", &touch, &self.touch),

@@ -20,6 +20,7 @@
 use std::collections::{BTreeMap, HashSet};
 
 use crossbeam_channel::Receiver;
+use rapier_contact_graph::events::KindSet;
 use rapier_contact_graph::events::SubscriptionId;
 use rapier_contact_graph::rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, Event, Filter, NodeId};
@@ -66,6 +67,10 @@ pub struct Harness {
     pub world: PhysicsWorld,
     pub layer: ContactLayer,
     rx: Receiver<Event>,
+    /// What the base subscriber asked for: every kind, or (touching mode) every kind
+    /// that touching tracking can deliver, so that the subscriber does not force
+    /// proximity tracking.
+    base: Filter,
     contract: Contract,
     subs: Vec<Sub>,
     rules: Vec<NodeId>,
@@ -93,9 +98,19 @@ impl Default for Harness {
 }
 
 impl Harness {
-    /// The arena: a fixed floor body (top at y = 0), four walls and a ceiling as
-    /// parentless colliders, a 6 m × 4 m × 6 m box.
+    /// The arena with a subscriber to every event kind: proximity tracking is in
+    /// effect throughout (a `Persist` subscriber needs every pair read).
     pub fn new() -> Self {
+        Self::with_mode(false)
+    }
+
+    /// The arena: a fixed floor body (top at y = 0), four walls and a ceiling as
+    /// parentless colliders, a 6 m × 4 m × 6 m box. With `touching`, the layer is
+    /// asked for touching tracking and the base subscriber takes every kind but
+    /// those only proximity tracking produces (`KindSet::NEEDS_EVERY_PAIR`), so that
+    /// touching tracking is in effect until an operation (speed-ups, a subscription
+    /// to such a kind) switches it to proximity, and back.
+    pub fn with_mode(touching: bool) -> Self {
         let mut world = PhysicsWorld::new();
         world.insert(
             RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
@@ -117,14 +132,21 @@ impl Harness {
             None,
         );
         let mut layer = ContactLayer::new();
-        let rx = layer.subscribe(Filter::all());
+        let base = if touching {
+            layer.set_tracking(rapier_contact_graph::coherence::Tracking::Touching);
+            Filter::kinds(KindSet::ALL.without(KindSet::NEEDS_EVERY_PAIR))
+        } else {
+            Filter::all()
+        };
+        let rx = layer.subscribe(base.clone());
         #[cfg(test)]
-        let log = crate::common::contract::ContractLog::attach(&mut layer);
+        let log = crate::common::contract::ContractLog::attach_with(&mut layer, base.clone());
         Self {
             world,
             layer,
             rx,
-            contract: Contract::default(),
+            contract: Contract::new(!touching),
+            base,
             subs: Vec::new(),
             rules: Vec::new(),
             timers: Vec::new(),
@@ -141,9 +163,11 @@ impl Harness {
     }
 }
 
-/// Runs a sequence on a fresh harness; the first failed check is the error.
+/// Runs a sequence on a fresh harness; the first failed check is the error. A
+/// sequence that starts with `Op::Touching(true)` runs in touching mode (see
+/// [`Harness::with_mode`]).
 pub fn run(ops: &[Op], trace: bool) -> Result<Counters, String> {
-    let mut h = Harness::new();
+    let mut h = Harness::with_mode(matches!(ops.first(), Some(Op::Touching(true))));
     h.trace = trace;
     // The first step makes nodes of the arena.
     h.step().map_err(|e| format!("initial step: {e}"))?;

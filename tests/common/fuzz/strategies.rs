@@ -204,6 +204,14 @@ pub fn op() -> impl Strategy<Value = Op> {
     ])
 }
 
+/// Half of the sequences start with `Touching(true)`: they run in touching mode
+/// (`Harness::with_mode`), with touching tracking in effect until an operation
+/// switches it to proximity.
 pub fn ops() -> impl Strategy<Value = Vec<Op>> {
-    prop::collection::vec(op(), 20..=60)
+    (any::<bool>(), prop::collection::vec(op(), 20..=60)).prop_map(|(touching, mut ops)| {
+        if touching {
+            ops.insert(0, Op::Touching(true));
+        }
+        ops
+    })
 }
