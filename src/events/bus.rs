@@ -186,8 +186,12 @@ fn matches(filter: &Filter, ev: &Event, graph: &ContactGraph) -> bool {
     if !filter.kinds_set().contains(ev.kind) {
         return false;
     }
+    let by_handle = filter.names_handle(ev);
+    if by_handle == Some(true) {
+        return true;
+    }
     match filter.nodes() {
-        None => true,
+        None => by_handle.is_none(),
         Some(set) => {
             member_of_any(ev.a, set, graph) || ev.b.is_some_and(|b| member_of_any(b, set, graph))
         }

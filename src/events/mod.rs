@@ -298,22 +298,45 @@ impl std::hash::Hash for Event {
     }
 }
 
-/// Which events a subscription receives: kinds, and optionally nodes.
+/// Which events a subscription receives: kinds, and optionally what they involve,
+/// by Rapier handle or by node.
 ///
-/// A node filter matches an event if `a` or `b` is one of the nodes, or is a member
-/// of one of them (a container node given in the filter matches events of its bodies).
+/// - [`Self::with_bodies`]: events naming one of the bodies in
+///   [`Event::body_a`] or [`Event::body_b`]: its touches, the triggers it enters and
+///   leaves, its sleep, the monitor's reports on it, and the trigger events of
+///   sensors it carries (a trigger's `body_a` is its carrier).
+/// - [`Self::with_colliders`]: events naming one of the colliders in
+///   [`Event::collider_a`] or [`Event::collider_b`]: a sensor's trigger events, a
+///   parentless collider's touches. A body's own colliders are not named by its
+///   events (a body pair aggregates its collider pairs): filter by its body.
+/// - [`Self::with_nodes`]: events whose `a` or `b` is one of the nodes, or a member
+///   of one of them (a container node matches the events of its bodies); for what has
+///   no Rapier handle (rules, timers, containers).
+///
+/// Restrictions add up: with several, an event passes if it involves anything any
+/// of them names. Cost per event and subscription: O(log n) per restriction of n
+/// handles; a node restriction adds O(degree) for container membership.
 ///
 /// # Example
 /// ```
+/// use rapier3d::prelude::*;
 /// use rapier_contact_graph::events::{EventKind, Filter, KindSet};
 /// let f = Filter::kinds(KindSet::TOUCH).or_kind(EventKind::TriggerEnter);
 /// assert!(f.kinds_set().contains(EventKind::TouchBegin));
 /// assert!(!f.kinds_set().contains(EventKind::ProximityBegin));
+///
+/// // The touches of one body, by its Rapier handle.
+/// let mut bodies = RigidBodySet::new();
+/// let ball = bodies.insert(RigidBodyBuilder::dynamic());
+/// let touches_of_ball = Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]);
+/// assert_eq!(touches_of_ball.bodies(), Some(&[ball][..]));
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Filter {
     kinds: KindSet,
     nodes: Option<Vec<NodeId>>,
+    bodies: Option<Vec<RigidBodyHandle>>,
+    colliders: Option<Vec<ColliderHandle>>,
 }
 
 impl Default for Filter {
@@ -325,14 +348,66 @@ impl Default for Filter {
 impl Filter {
     /// Every event.
     pub fn all() -> Self {
-        Self {
-            kinds: KindSet::ALL,
-            nodes: None,
-        }
+        Self::kinds(KindSet::ALL)
     }
     /// Events of the given kinds.
     pub fn kinds(kinds: KindSet) -> Self {
-        Self { kinds, nodes: None }
+        Self {
+            kinds,
+            nodes: None,
+            bodies: None,
+            colliders: None,
+        }
+    }
+    /// Restricts to events naming one of `bodies` (see the type's docs). O(n log n).
+    pub fn with_bodies(mut self, bodies: &[RigidBodyHandle]) -> Self {
+        let mut v = bodies.to_vec();
+        v.sort_unstable_by_key(|h| h.into_raw_parts());
+        v.dedup();
+        self.bodies = Some(v);
+        self
+    }
+    /// Restricts to events naming one of `colliders` (see the type's docs).
+    /// O(n log n).
+    pub fn with_colliders(mut self, colliders: &[ColliderHandle]) -> Self {
+        let mut v = colliders.to_vec();
+        v.sort_unstable_by_key(|h| h.into_raw_parts());
+        v.dedup();
+        self.colliders = Some(v);
+        self
+    }
+    /// The body restriction, if any (sorted by index and generation).
+    pub fn bodies(&self) -> Option<&[RigidBodyHandle]> {
+        self.bodies.as_deref()
+    }
+    /// The collider restriction, if any (sorted by index and generation).
+    pub fn colliders(&self) -> Option<&[ColliderHandle]> {
+        self.colliders.as_deref()
+    }
+    /// Whether the event names one of the filter's bodies or colliders (`None`: the
+    /// filter has neither restriction). O(log n).
+    pub(crate) fn names_handle(&self, ev: &Event) -> Option<bool> {
+        if self.bodies.is_none() && self.colliders.is_none() {
+            return None;
+        }
+        let body = |h: Option<RigidBodyHandle>| {
+            h.zip(self.bodies.as_deref()).is_some_and(|(h, set)| {
+                set.binary_search_by_key(&h.into_raw_parts(), |b| b.into_raw_parts())
+                    .is_ok()
+            })
+        };
+        let collider = |c: Option<ColliderHandle>| {
+            c.zip(self.colliders.as_deref()).is_some_and(|(c, set)| {
+                set.binary_search_by_key(&c.into_raw_parts(), |x| x.into_raw_parts())
+                    .is_ok()
+            })
+        };
+        Some(
+            body(ev.body_a)
+                || body(ev.body_b)
+                || collider(ev.collider_a)
+                || collider(ev.collider_b),
+        )
     }
     /// Adds a kind.
     pub fn or_kind(mut self, kind: EventKind) -> Self {
@@ -340,6 +415,7 @@ impl Filter {
         self
     }
     /// Restricts to events involving one of `nodes` (or a member of one of them).
+    /// O(n log n).
     pub fn with_nodes(mut self, nodes: &[NodeId]) -> Self {
         let mut v = nodes.to_vec();
         v.sort();

@@ -70,4 +70,18 @@ impl ContactLayer {
     pub fn last_events(&self) -> &[Event] {
         &self.events
     }
+
+    /// The last step's events naming `body` (in [`Event::body_a`] or
+    /// [`Event::body_b`]; see [`Filter::with_bodies`] for what that covers), in
+    /// order. Only kinds some subscription wants are generated: subscribe first (a
+    /// `Filter::with_bodies` subscription receives the same events). A body the layer
+    /// has not seen, or a removed one, has none. O(the step's events).
+    pub fn last_events_of_body(
+        &self,
+        body: rapier3d::prelude::RigidBodyHandle,
+    ) -> impl Iterator<Item = &Event> + '_ {
+        self.events
+            .iter()
+            .filter(move |e| e.body_a == Some(body) || e.body_b == Some(body))
+    }
 }

@@ -506,6 +506,26 @@ impl Harness {
                     capacity,
                 });
             }
+            Op::SubscribeHandle {
+                kinds,
+                body,
+                collider,
+            } => {
+                let mut filter = Filter::kinds(kinds_of(kinds));
+                if let Some(b) = body.and_then(|i| self.body(i)) {
+                    filter = filter.with_bodies(&[b]);
+                }
+                if let Some(c) = collider.and_then(|i| self.collider(i)) {
+                    filter = filter.with_colliders(&[c]);
+                }
+                let (id, rx) = self.layer.subscribe_with_id(filter.clone());
+                self.subs.push(Sub {
+                    id: Some(id),
+                    rx,
+                    filter,
+                    capacity: 0,
+                });
+            }
             Op::Unsubscribe(i) => {
                 let n = self.subs.len();
                 if n > 0 {

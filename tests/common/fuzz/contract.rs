@@ -220,13 +220,33 @@ fn member_of_any(n: NodeId, set: &[NodeId], layer: &ContactLayer) -> bool {
             .any(|(m, _, e)| e.kind() == EdgeKind::Structural && set.contains(&m))
 }
 
+/// What a filtered subscription must receive (our own reading of `Filter`'s docs):
+/// the kinds, and, when restricted, events involving anything named by any
+/// restriction (nodes with their members, bodies in `body_a`/`body_b`, colliders in
+/// `collider_a`/`collider_b`).
 pub(super) fn matches(filter: &Filter, ev: &Event, layer: &ContactLayer) -> bool {
-    filter.kinds_set().contains(ev.kind)
-        && match filter.nodes() {
-            None => true,
-            Some(set) => {
-                member_of_any(ev.a, set, layer)
-                    || ev.b.is_some_and(|b| member_of_any(b, set, layer))
-            }
-        }
+    if !filter.kinds_set().contains(ev.kind) {
+        return false;
+    }
+    let restricted =
+        filter.nodes().is_some() || filter.bodies().is_some() || filter.colliders().is_some();
+    if !restricted {
+        return true;
+    }
+    let by_node = filter.nodes().is_some_and(|set| {
+        member_of_any(ev.a, set, layer) || ev.b.is_some_and(|b| member_of_any(b, set, layer))
+    });
+    let by_body = filter.bodies().is_some_and(|set| {
+        [ev.body_a, ev.body_b]
+            .into_iter()
+            .flatten()
+            .any(|h| set.contains(&h))
+    });
+    let by_collider = filter.colliders().is_some_and(|set| {
+        [ev.collider_a, ev.collider_b]
+            .into_iter()
+            .flatten()
+            .any(|c| set.contains(&c))
+    });
+    by_node || by_body || by_collider
 }

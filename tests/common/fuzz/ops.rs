@@ -144,6 +144,13 @@ pub enum Op {
         capacity: u8,
         node: Option<u8>,
     },
+    /// Subscribes (unbounded) to the kinds in the mask, filtered by Rapier handle: a
+    /// live body, a live collider, or both (`Filter::with_bodies`, `with_colliders`).
+    SubscribeHandle {
+        kinds: u16,
+        body: Option<u8>,
+        collider: Option<u8>,
+    },
     Unsubscribe(u8),
     DropReceiver(u8),
     /// `set_speedups(Some(SpeedUps::combination(bits % 128)))`, or `None`.

@@ -194,6 +194,20 @@ pub fn op() -> impl Strategy<Value = Op> {
                 })
                 .boxed(),
         ),
+        (
+            1,
+            (
+                any::<u16>(),
+                prop::option::of(idx()),
+                prop::option::of(idx()),
+            )
+                .prop_map(|(kinds, body, collider)| Op::SubscribeHandle {
+                    kinds,
+                    body,
+                    collider,
+                })
+                .boxed(),
+        ),
         (1, idx().prop_map(Op::Unsubscribe).boxed()),
         (1, idx().prop_map(Op::DropReceiver).boxed()),
         (2, prop::option::of(0u8..128).prop_map(Op::SpeedUps).boxed()),

@@ -1,0 +1,124 @@
+//! Subscriptions filtered by Rapier handle (`Filter::with_bodies`,
+//! `Filter::with_colliders`) and `last_events_of_body`, written from a Rapier user's
+//! side: the events of one body, and what fired one sensor, under both trackings.
+
+mod common;
+
+use rapier3d::prelude::*;
+use rapier_contact_graph::coherence::Tracking;
+use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+use rapier_contact_graph::{ContactLayer, Event};
+
+use common::build::*;
+
+/// Two balls dropped on the ground, the second through a parentless sensor.
+fn scene() -> (
+    PhysicsWorld,
+    RigidBodyHandle,
+    RigidBodyHandle,
+    ColliderHandle,
+) {
+    let (mut world, _) = world_with_ground();
+    let (a, _) = ball_at(&mut world, [0.0, 1.5, 0.0], 0.5);
+    let (b, _) = ball_at(&mut world, [3.0, 4.0, 0.0], 0.5);
+    let sensor = world.insert_collider(
+        ColliderBuilder::ball(0.6)
+            .sensor(true)
+            .translation(Vector::new(3.0, 2.5, 0.0)),
+        None,
+    );
+    (world, a, b, sensor)
+}
+
+fn run(tracking: Tracking) {
+    let (mut world, a, b, sensor) = scene();
+    let mut layer = ContactLayer::new();
+    layer.set_tracking(tracking);
+    let all = layer.subscribe(Filter::kinds(KindSet::TOUCH | KindSet::TRIGGER));
+    let of_a = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[a]));
+    let of_sensor = layer.subscribe(Filter::kinds(KindSet::TRIGGER).with_colliders(&[sensor]));
+    let (mut seen_a, mut seen_sensor) = (Vec::new(), Vec::new());
+    for _ in 0..120 {
+        layer.step(&mut world);
+        layer.validate(&world).unwrap();
+        let step: Vec<Event> = all.try_iter().collect();
+        let got_a: Vec<Event> = of_a.try_iter().collect();
+        let got_sensor: Vec<Event> = of_sensor.try_iter().collect();
+        // Exactly the step's events naming the body, in order; the same as the query.
+        let want_a: Vec<Event> = step
+            .iter()
+            .filter(|e| KindSet::TOUCH.contains(e.kind))
+            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a))
+            .copied()
+            .collect();
+        assert_eq!(got_a, want_a);
+        let queried: Vec<Event> = layer
+            .last_events_of_body(a)
+            .filter(|e| KindSet::TOUCH.contains(e.kind))
+            .copied()
+            .collect();
+        assert_eq!(queried, want_a);
+        // Exactly the trigger events of that sensor.
+        let want_sensor: Vec<Event> = step
+            .iter()
+            .filter(|e| KindSet::TRIGGER.contains(e.kind))
+            .filter(|e| e.collider_a == Some(sensor))
+            .copied()
+            .collect();
+        assert_eq!(got_sensor, want_sensor);
+        seen_a.extend(got_a);
+        seen_sensor.extend(got_sensor);
+    }
+    // Ball a landed (a touch with the ground) and never met ball b.
+    assert!(seen_a.iter().any(|e| e.kind == EventKind::TouchBegin));
+    assert!(seen_a
+        .iter()
+        .all(|e| e.body_a != Some(b) && e.body_b != Some(b)));
+    // Ball b fell through the sensor: it entered, then left.
+    let kinds: Vec<(EventKind, Option<RigidBodyHandle>)> =
+        seen_sensor.iter().map(|e| (e.kind, e.body_b)).collect();
+    assert_eq!(
+        kinds,
+        [
+            (EventKind::TriggerEnter, Some(b)),
+            (EventKind::TriggerExit, Some(b))
+        ]
+    );
+}
+
+#[test]
+fn a_body_filter_receives_exactly_that_bodys_events_under_proximity_tracking() {
+    run(Tracking::Proximity);
+}
+
+#[test]
+fn a_body_filter_receives_exactly_that_bodys_events_under_touching_tracking() {
+    run(Tracking::Touching);
+}
+
+/// Restrictions add up: a body and a collider restriction together pass the events
+/// of either.
+#[test]
+fn body_and_collider_restrictions_add_up() {
+    let (mut world, a, b, sensor) = scene();
+    let mut layer = ContactLayer::new();
+    let both = layer.subscribe(Filter::all().with_bodies(&[a]).with_colliders(&[sensor]));
+    let all = layer.subscribe(Filter::all());
+    let mut n = 0;
+    for _ in 0..120 {
+        layer.step(&mut world);
+        layer.validate(&world).unwrap();
+        let want: Vec<Event> = all
+            .try_iter()
+            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a) || e.collider_a == Some(sensor))
+            .collect();
+        let got: Vec<Event> = both.try_iter().collect();
+        assert_eq!(got, want);
+        n += got.len();
+        // Ball b's own touch with the ground is in neither restriction.
+        assert!(got
+            .iter()
+            .all(|e| e.collider_a == Some(sensor) || (e.body_b != Some(b) && e.body_a != Some(b))));
+    }
+    assert!(n > 0);
+}
