@@ -123,13 +123,9 @@ fn a_resting_ball_is_held_up_by_the_ground_and_grouped_with_what_it_touches() {
     }
     layer.validate(&world).unwrap();
     // Balls 2 and 3 land on the ground, balls 4 and 5 on the ledge.
-    let supports = layer
-        .supports_of_body(&world.bodies, balls[2], 0.5)
-        .unwrap();
+    let supports = layer.supports_of_body(&world, balls[2], 0.5).unwrap();
     assert!(supports.contains(&Touching::Body(ground)), "{supports:?}");
-    let on_ledge = layer
-        .supports_of_body(&world.bodies, balls[4], 0.5)
-        .unwrap();
+    let on_ledge = layer.supports_of_body(&world, balls[4], 0.5).unwrap();
     assert!(
         on_ledge.contains(&Touching::Collider(ledge)),
         "{on_ledge:?}"
@@ -169,10 +165,7 @@ fn new_bodies_answer_empty_and_removed_ones_are_errors() {
     // Inserted since the last step, overlapping the ground: no contacts yet.
     let (new, _) = ball_at(&mut world, [0.0, 0.6, 2.0], 0.3);
     assert_eq!(layer.touching_body(&world.bodies, new), Ok(Vec::new()));
-    assert_eq!(
-        layer.supports_of_body(&world.bodies, new, 0.0),
-        Ok(Vec::new())
-    );
+    assert_eq!(layer.supports_of_body(&world, new, 0.0), Ok(Vec::new()));
     assert_eq!(layer.sensors_containing(&world.bodies, new), Ok(Vec::new()));
     assert_eq!(layer.group_of_body(&world.bodies, new), Ok(Vec::new()));
     // Removed (before or after the next step): an error naming the handle.
@@ -184,7 +177,7 @@ fn new_bodies_answer_empty_and_removed_ones_are_errors() {
     layer.step(&mut world);
     for query in [
         layer.touching_body(&world.bodies, balls[0]),
-        layer.supports_of_body(&world.bodies, balls[0], 0.0),
+        layer.supports_of_body(&world, balls[0], 0.0),
     ] {
         assert_eq!(query, Err(Error::UnknownBody(balls[0])));
     }
@@ -203,7 +196,7 @@ fn new_bodies_answer_empty_and_removed_ones_are_errors() {
         Err(Error::UnknownCollider(sensor))
     );
     assert!(matches!(
-        layer.supports_of_body(&world.bodies, balls[1], f32::NAN),
+        layer.supports_of_body(&world, balls[1], f32::NAN),
         Err(Error::NonFinite(_))
     ));
 }
@@ -246,4 +239,79 @@ fn events_name_the_sensor_and_the_static_collider() {
             .all(|e| e.collider_a.is_none()),
         "a body has no collider of its own in an event"
     );
+}
+
+/// Contact details on demand: `contact_details` and `supports_of_body` read Rapier's
+/// narrow phase, so touching tracking (which copies no detail into the graph)
+/// answers exactly what proximity tracking with its per-edge details answers, at
+/// every step of twin worlds (the flag touching tracking sets changes no trajectory
+/// bit); and `contact_details` equals the edge's per-step copy, oriented from the
+/// body asked about.
+#[test]
+fn contact_details_on_demand_equal_the_per_step_copy_under_both_trackings() {
+    use rapier_contact_graph::coherence::Tracking;
+    let (mut w1, balls, _, ledge) = scene();
+    let (mut w2, _, _, _) = scene();
+    let mut proximity = ContactLayer::new();
+    let mut touching = ContactLayer::new();
+    touching.set_tracking(Tracking::Touching);
+    let mut compared = 0;
+    for _ in 0..150 {
+        proximity.step(&mut w1);
+        touching.step(&mut w2);
+        proximity.validate(&w1).unwrap();
+        touching.validate(&w2).unwrap();
+        assert!(touching.touching_in_effect());
+        for &b in &balls {
+            let s1 = proximity.supports_of_body(&w1, b, 0.5).unwrap();
+            let s2 = touching.supports_of_body(&w2, b, 0.5).unwrap();
+            assert_eq!(s1, s2, "supports of {b:?}");
+            for other in proximity.touching_body(&w1.bodies, b).unwrap() {
+                let d1 = proximity.contact_details(&w1, b, other).unwrap().unwrap();
+                let d2 = touching.contact_details(&w2, b, other).unwrap().unwrap();
+                let key = |c: &rapier_contact_graph::ContactCache| {
+                    (
+                        c.touching,
+                        c.contact_count,
+                        c.min_distance.to_bits(),
+                        c.normal_impulse.to_bits(),
+                        c.normal.to_array().map(f32::to_bits),
+                        c.push.to_array().map(f32::to_bits),
+                    )
+                };
+                assert_eq!(key(&d1), key(&d2));
+                // The per-step copy, oriented from the edge's A to B.
+                let n = proximity.node_of_body(b).unwrap();
+                let m = match other {
+                    Touching::Body(h) => proximity.node_of_body(h).unwrap(),
+                    Touching::Collider(c) => proximity.graph().node_of_static_collider(c).unwrap(),
+                };
+                let e = proximity.graph().edge_between(n, m).unwrap();
+                let cache = proximity.graph().edge(e).unwrap().cache();
+                let sign = if n.index() < m.index() { 1.0 } else { -1.0 };
+                assert_eq!(cache.contact_count, d1.contact_count);
+                assert_eq!(cache.min_distance.to_bits(), d1.min_distance.to_bits());
+                assert_eq!((cache.normal * sign).to_array(), d1.normal.to_array());
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 100, "only {compared} contacts compared");
+    // Not near: no contact pair. Unknown handles: errors.
+    assert_eq!(
+        proximity
+            .contact_details(&w1, balls[0], Touching::Collider(ledge))
+            .unwrap(),
+        None
+    );
+    let gone = balls[1];
+    w1.remove_body(gone);
+    assert!(matches!(
+        proximity.contact_details(&w1, gone, Touching::Body(balls[0])),
+        Err(Error::UnknownBody(_))
+    ));
+    assert!(matches!(
+        proximity.supports_of_body(&w1, gone, 0.0),
+        Err(Error::UnknownBody(_))
+    ));
 }

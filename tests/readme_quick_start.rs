@@ -28,7 +28,7 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
         vec![rapier_contact_graph::Touching::Body(ground)]
     );
     assert_eq!(
-        layer.supports_of_body(&world.bodies, ball, 0.5)?,
+        layer.supports_of_body(&world, ball, 0.5)?,
         vec![rapier_contact_graph::Touching::Body(ground)]
     );
     let events: Vec<_> = touches.try_iter().collect();

@@ -79,6 +79,7 @@
 //! whose object left the world.
 
 use crate::graph::mirror as nodes;
+pub(crate) mod details;
 pub(crate) mod obsolete;
 mod pair_update;
 pub(crate) mod pairs;

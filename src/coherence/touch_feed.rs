@@ -39,7 +39,9 @@ use super::*;
 ///   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
 ///   the edge goes when none is left.
 /// - The contact details of an edge (distances, normals, impulses) are not copied:
-///   read Rapier's narrow phase when needed. `ContactCache::contact_count` counts the
+///   [`ContactLayer::contact_details`](crate::ContactLayer::contact_details) and
+///   [`ContactLayer::supports_of_body`](crate::ContactLayer::supports_of_body) read
+///   them from Rapier's narrow phase when asked. `ContactCache::contact_count` counts the
 ///   touching collider pairs, not the solver contacts.
 /// - Per step: O(events + awake bodies) for the analysis, plus the group rebuild of
 ///   the bodies whose contacts changed.

@@ -12,8 +12,9 @@
 use rapier3d::geometry::ColliderSet;
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, RigidBodySet};
 
-use crate::graph::{EdgeKind, NodeId, NodeSource};
-use crate::{ContactLayer, Error, Result};
+use crate::coherence::details::read_details;
+use crate::graph::{ContactCache, EdgeKind, NodeId, NodeSource};
+use crate::{ContactLayer, Error, Result, WorldView};
 
 /// Something a body touches or a sensor holds, by Rapier handle: a body, or a
 /// parentless collider (static geometry).
@@ -80,19 +81,22 @@ impl ContactLayer {
     /// bodies and static colliders touching it through a contact whose normal pushes
     /// it upwards by more than `min_cos` of the unit push (0.0: any upward push),
     /// sorted by node. Empty if nothing does, or for a body inserted since the last
-    /// step. Needs the contact normals: proximity tracking with contact details on
-    /// (the defaults). `Err(UnknownBody)` for a body `bodies` lacks, `Err(NonFinite)`
-    /// for a NaN `min_cos`. O(degree).
-    pub fn supports_of_body(
+    /// step. The normals are read from Rapier's narrow phase (see
+    /// [`Self::contact_details`]), so the answer needs neither proximity tracking nor
+    /// the per-edge contact details. `world` is a `&PhysicsWorld` or a [`WorldView`]
+    /// of one's own sets. `Err(UnknownBody)` for a body the world lacks,
+    /// `Err(NonFinite)` for a NaN `min_cos`. O(degree × the body's contact pairs).
+    pub fn supports_of_body<'w>(
         &self,
-        bodies: &RigidBodySet,
+        world: impl Into<WorldView<'w>>,
         body: RigidBodyHandle,
         min_cos: f32,
     ) -> Result<Vec<Touching>> {
         if min_cos.is_nan() {
             return Err(Error::NonFinite("min_cos"));
         }
-        let Some(n) = self.node_of_live_body(bodies, body)? else {
+        let view = world.into();
+        let Some(n) = self.node_of_live_body(view.bodies, body)? else {
             return Ok(Vec::new());
         };
         let scale = self.gravity.abs().max_element();
@@ -100,7 +104,60 @@ impl ContactLayer {
             return Ok(Vec::new());
         }
         let up = -(self.gravity / scale).normalize();
-        Ok(self.touching_of(sorted(self.graph.supports_of(n, up, min_cos))))
+        let supports = self.graph.touching(n).filter(|&m| {
+            read_details(&self.graph, &view, n, m).is_some_and(|c| {
+                // Oriented from the smaller slot to the larger: it pushes the larger
+                // along +normal.
+                let push = if n.index() > m.index() {
+                    c.normal
+                } else {
+                    -c.normal
+                };
+                c.touching && push.dot(up) > min_cos
+            })
+        });
+        Ok(self.touching_of(sorted(supports)))
+    }
+
+    /// The contact between `body` and `other` as Rapier's narrow phase holds it now:
+    /// closest distance (negative: penetration), deepest penetration, solver contact
+    /// count, the sum of normal impulses, and the deepest contact's normal and the
+    /// impulses' resultant (`push`), both pointing from `body` towards `other` (so
+    /// `-push` is what `other` did to `body`). Read on demand, whatever the tracking
+    /// and whether per-edge details are kept. `Ok(None)` when Rapier has no contact
+    /// pair between them (they are not near) or the layer has not seen one of them
+    /// yet. `world` is a `&PhysicsWorld` or a [`WorldView`] of one's own sets.
+    /// `Err(UnknownBody)` / `Err(UnknownCollider)` for a handle the world lacks.
+    /// O(the contact pairs of `body`'s colliders).
+    pub fn contact_details<'w>(
+        &self,
+        world: impl Into<WorldView<'w>>,
+        body: RigidBodyHandle,
+        other: Touching,
+    ) -> Result<Option<ContactCache>> {
+        let view = world.into();
+        let Some(n) = self.node_of_live_body(view.bodies, body)? else {
+            return Ok(None);
+        };
+        let m = match other {
+            Touching::Body(h) => self.node_of_live_body(view.bodies, h)?,
+            Touching::Collider(c) => {
+                if !view.colliders.contains(c) {
+                    return Err(Error::UnknownCollider(c));
+                }
+                self.graph.node_of_static_collider(c)
+            }
+        };
+        let Some(m) = m else {
+            return Ok(None);
+        };
+        Ok(read_details(&self.graph, &view, n, m).map(|mut c| {
+            if n.index() > m.index() {
+                c.normal = -c.normal;
+                c.push = -c.push;
+            }
+            c
+        }))
     }
 
     /// The bodies and static colliders inside a sensor collider (their colliders
