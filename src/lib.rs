@@ -1,32 +1,114 @@
 //! # rapier-contact-graph
 //!
-//! Kenny Erleben's *Contact Graphs in Multibody Dynamics Simulation* (DIKU TR-04/06)
-//! as a drop-in layer for stock [`rapier3d`] 0.36: a persistent, typed contact graph
-//! of the whole scene, the Spatial-Temporal Coherence (STC) marks, and contact groups,
-//! kept in step with a Rapier world by one call per step.
+//! A persistent contact graph of a whole [`rapier3d`] 0.36 scene, kept in step by one
+//! call per step: who touches what, what is inside each sensor, which bodies form a
+//! contact group, and events when any of it changes, by Rapier handle. It implements
+//! Kenny Erleben's report *Contact Graphs in Multibody Dynamics Simulation* (DIKU
+//! TR-04/06), with the report's speed-ups and a plausibility monitor on top. Stock
+//! Rapier, no fork: observing changes no bit of Rapier's results.
 //!
+//! # Add it in three lines
 //! ```
 //! use rapier3d::prelude::*;
 //! use rapier_contact_graph::ContactLayer;
 //!
 //! let mut world = PhysicsWorld::new();
 //! world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
-//! world.insert(
-//!     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+//! let (ball, _) = world.insert(
+//!     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.2, 0.0)),
+//!     ColliderBuilder::ball(0.5),
+//! );
+//!
+//! let mut layer = ContactLayer::new(); // 1. make it
+//! for _ in 0..60 {
+//!     layer.step(&mut world); // 2. step through it (Rapier's step + the analysis)
+//! }
+//! let touching = layer.touching_body(&world.bodies, ball)?; // 3. ask it
+//! assert_eq!(touching.len(), 1, "the ball rests on the ground");
+//! # Ok::<(), rapier_contact_graph::Error>(())
+//! ```
+//! Stepping Rapier yourself: call [`ContactLayer::pre_step`], pass
+//! [`ContactLayer::hooks`] (or [`ContactLayer::hooks_with`] your own) and
+//! [`ContactLayer::event_handler`] (or [`ContactLayer::event_handler_with`] your own)
+//! to Rapier's step, then [`ContactLayer::analyze`].
+//!
+//! # Who touches what
+//! By Rapier handle, as of the last step; a body inserted since answers empty, a
+//! removed one is an error:
+//! [`touching_body`](ContactLayer::touching_body) (bodies and static colliders),
+//! [`supports_of_body`](ContactLayer::supports_of_body) (what holds it up),
+//! [`contact_details`](ContactLayer::contact_details) (distance, normal, impulses,
+//! read from Rapier on demand). The graph itself ([`ContactLayer::graph`]) holds a
+//! node per body, static collider, sensor and container, and an edge per touching
+//! pair (and, under proximity tracking, per pair Rapier's broad phase keeps).
+//!
+//! # Sensors
+//! [`sensor_contents`](ContactLayer::sensor_contents) (what is inside a sensor
+//! collider), [`sensors_containing`](ContactLayer::sensors_containing) (which sensors
+//! a body is in), and `TriggerEnter` / `TriggerExit` events naming the sensor's
+//! collider. The layer widens sensors' collision types so that a sensor on a fixed
+//! body sees fixed bodies too ([`ContactLayer::set_trigger_widening`] says what that
+//! changes, and how to switch it off).
+//!
+//! # Contact groups and sleeping piles
+//! Bodies that touch, directly or through others, form a contact group; fixed and
+//! kinematic bodies do not join groups (the report's Figs. 7–8):
+//! [`group_of_body`](ContactLayer::group_of_body), [`ContactLayer::groups`]. With the
+//! speed-ups ([`ContactLayer::set_speedups`], [`speedups::SpeedUps`]) a group at rest
+//! is put to sleep or held still as a whole, which settles piles that Rapier leaves
+//! awake; the monitor ([`ContactLayer::set_monitor`]) finds and repairs what that
+//! breaks (a body left hanging, a launch, deep penetration).
+//!
+//! # Events
+//! ```
+//! use rapier3d::prelude::*;
+//! use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet};
+//!
+//! let mut world = PhysicsWorld::new();
+//! world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+//! let (ball, _) = world.insert(
+//!     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.2, 0.0)),
 //!     ColliderBuilder::ball(0.5),
 //! );
 //! let mut layer = ContactLayer::new();
-//! let stats = layer.step(&mut world); // Rapier's step + the analysis
-//! assert_eq!(stats.nodes, 2);
+//! // Touches of the ball, and any body falling asleep (crossbeam receivers).
+//! let touches = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]));
+//! let _sleep = layer.subscribe(Filter::kinds(KindSet::SLEEP));
+//! for _ in 0..60 {
+//!     layer.step(&mut world);
+//! }
+//! let first = touches.try_iter().next().unwrap();
+//! assert_eq!(first.kind, EventKind::TouchBegin);
+//! assert!(first.body_a == Some(ball) || first.body_b == Some(ball));
 //! ```
+//! Kinds come in Begin / Persist / End spans (the listener contract of
+//! [`events`]); every event carries the Rapier handles of what it names. Subscribe
+//! to `Begin`/`End` only where you can: `TouchPersist` and the proximity kinds need
+//! every pair read each step (proximity tracking), the others follow Rapier's own
+//! collision events under touching tracking
+//! ([`coherence::Tracking::Touching`], a fraction of the cost).
 //!
-//! # Architecture (the paper's phases as modules)
+//! # Coming from Rapier
+//! | Rapier | this crate |
+//! |---|---|
+//! | `narrow_phase.contact_pairs_with(c)` + `has_any_active_contact()` | [`ContactLayer::touching_body`] |
+//! | a contact's normal and impulses | [`ContactLayer::contact_details`], [`ContactLayer::supports_of_body`] |
+//! | `narrow_phase.intersection_pairs_with(sensor)` | [`ContactLayer::sensor_contents`], [`ContactLayer::sensors_containing`] |
+//! | `CollisionEvent::Started` / `Stopped` | `TouchBegin` / `TouchEnd`, `TriggerEnter` / `TriggerExit` ([`EventKind`]) |
+//! | `collider1` / `collider2` | [`Event::collider_a`] / [`Event::collider_b`], and [`Event::body_a`] / [`Event::body_b`] |
+//! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
+//! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
+//! | dynamic / kinematic / fixed body | node kinds `Rigid` / `Scripted` / `Fixed` ([`NodeKind`]) |
+//! | a disabled body | a passive body ([`ContactLayer::set_passive`]) |
+//! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
+//!
+//! # The report's sections, for readers of the paper
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
-//! - [`coherence`]: the STC analysis after each Rapier step (§3): node upkeep,
-//!   edge insertion, proximity and touching marks, obsolete removal; or, with
-//!   [`coherence::Tracking::Touching`], touch transitions from Rapier's own collision
-//!   events ([`coherence::TouchFeed`], the layer's `EventHandler`);
-//! - [`groups`]: contact groups by the traversal of Figs. 7–8;
+//! - [`coherence`]: the Spatial-Temporal Coherence analysis after each Rapier step
+//!   (§3): node upkeep, edge insertion, proximity and touching marks, the §3.1
+//!   obsolete test; or, with [`coherence::Tracking::Touching`], touch transitions
+//!   from Rapier's own collision events ([`coherence::TouchFeed`]);
+//! - [`groups`]: contact groups by the traversal of Figs. 7–8, kept incrementally;
 //! - [`logic`]: rules, timers, passive bodies, containers (Table 1, §3.2), and the
 //!   one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);
 //! - [`events`]: event kinds, filters and crossbeam subscriptions (§4, Table 3);
@@ -34,7 +116,7 @@
 //! - [`monitor`]: plausibility violations and their repair (§8, Figs. 15 and 17);
 //! - [`export`]: text, and Graphviz pictures of the graph (Figs. 2 and 9);
 //! - `debug_render` (feature `debug-render`, on by default): the graph drawn into any
-//!   Rapier `DebugRenderBackend` ([`GraphOverlay`]);
+//!   Rapier `DebugRenderBackend` (`GraphOverlay`);
 //! - [`snapshot`] (feature `serde`, on by default): the layer's state saved and
 //!   restored beside Rapier's own world snapshot, continuing bit for bit;
 //! - [`ContactLayer`] ties them together.

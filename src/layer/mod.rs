@@ -79,21 +79,32 @@ pub struct StepStats {
 ///
 /// # Methods by task
 /// - **Stepping:** [`Self::step`]; or [`Self::pre_step`], Rapier's step with
-///   [`Self::hooks`], then [`Self::analyze`].
-/// - **Who touches what:** [`Self::graph`], [`Self::node_of_body`],
-///   [`Self::node_of_collider`], [`Self::is_supported`], [`Self::kind_of`],
-///   [`Self::touched_edges`], [`Self::removed_edges`], [`Self::removed_nodes`].
-/// - **Contact groups:** [`Self::groups`], [`Self::grouping`], [`Self::insulates`],
-///   [`Self::stats`].
+///   [`Self::hooks`] / [`Self::hooks_with`] and [`Self::event_handler`] /
+///   [`Self::event_handler_with`], then [`Self::analyze`]; [`Self::detach`] gives the
+///   world back as the user left it.
+/// - **Who touches what, by Rapier handle:** [`Self::touching_body`],
+///   [`Self::supports_of_body`], [`Self::contact_details`].
+/// - **Sensors:** [`Self::sensor_contents`], [`Self::sensors_containing`],
+///   [`Self::set_trigger_widening`].
+/// - **Contact groups:** [`Self::group_of_body`], [`Self::groups`],
+///   [`Self::settle_groups`], [`Self::set_group_split_budget`], [`Self::grouping`],
+///   [`Self::insulates`].
 /// - **Events:** [`Self::subscribe`], [`Self::subscribe_bounded`],
-///   [`Self::subscribe_with_id`], [`Self::unsubscribe`], [`Self::last_events`].
+///   [`Self::subscribe_with_id`], [`Self::unsubscribe`], [`Self::last_events`],
+///   [`Self::last_events_of_body`].
+/// - **Cost:** [`Self::set_tracking`], [`Self::touching_in_effect`],
+///   [`Self::set_contact_details`], [`Self::stats`].
+/// - **The graph by node** (for what has no Rapier handle: rules, timers,
+///   containers): [`Self::graph`], [`Self::node_of_body`], [`Self::node_of_collider`],
+///   [`Self::is_supported`], [`Self::kind_of`], [`Self::touched_edges`],
+///   [`Self::removed_edges`], [`Self::removed_nodes`].
 /// - **Rules, timers, passive bodies, containers:** [`Self::add_rule`],
 ///   [`Self::remove_rule`], [`Self::add_timer`], [`Self::remove_timer`],
-///   [`Self::set_passive`], [`Self::declare_composite`], [`Self::set_trigger_widening`].
+///   [`Self::set_passive`], [`Self::declare_composite`].
 /// - **Speed-ups and the monitor:** [`Self::set_speedups`], [`Self::speedups`],
 ///   [`Self::set_monitor`], [`Self::monitor`], [`Self::holds`].
 /// - **Checking and syncing:** [`Self::validate`], [`Self::validate_view`],
-///   [`Self::request_full_sync`], [`Self::set_contact_details`].
+///   [`Self::request_full_sync`].
 ///
 /// Observe-only unless asked: without rules it sets no hook flag on any collider, and
 /// the hooks it hands Rapier are then never called, so attaching it changes nothing
