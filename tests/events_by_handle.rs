@@ -122,3 +122,45 @@ fn body_and_collider_restrictions_add_up() {
     }
     assert!(n > 0);
 }
+
+/// A touch begins with its contact normal (from `a` to `b`) and the solver's normal
+/// impulse: the ball landing on the ground is pushed up. Proximity tracking copies
+/// them from the edge, touching tracking and details off read them from Rapier: the
+/// three twin worlds give the same bits.
+#[test]
+fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
+    let begins = |tracking: Tracking, details: bool| {
+        let (mut world, a, _, _) = scene();
+        let mut layer = ContactLayer::new();
+        layer.set_tracking(tracking);
+        layer.set_contact_details(details);
+        let rx =
+            layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])).with_bodies(&[a]));
+        for _ in 0..120 {
+            layer.step(&mut world);
+            layer.validate(&world).unwrap();
+        }
+        rx.try_iter().collect::<Vec<Event>>()
+    };
+    let copied = begins(Tracking::Proximity, true);
+    assert_eq!(copied.len(), 1, "the ball lands once: {copied:?}");
+    let e = copied[0];
+    // The ground (inserted first) is the pair's A: the normal points up, into the ball.
+    assert_eq!(e.body_b, Some(scene().1));
+    assert!(e.normal.y > 0.99, "normal {:?}", e.normal);
+    assert!(e.impulse > 0.0, "impulse {}", e.impulse);
+    for (tracking, details) in [(Tracking::Touching, true), (Tracking::Proximity, false)] {
+        let read = begins(tracking, details);
+        assert_eq!(read.len(), 1);
+        assert_eq!(
+            read[0].normal.to_array(),
+            e.normal.to_array(),
+            "{tracking:?}"
+        );
+        assert_eq!(
+            read[0].impulse.to_bits(),
+            e.impulse.to_bits(),
+            "{tracking:?}"
+        );
+    }
+}

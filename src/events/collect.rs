@@ -13,9 +13,31 @@ pub(crate) struct StepMarks<'a> {
     pub ticks: &'a [(NodeId, u64)],
     /// Nodes removed this step (their kinds and handles are no longer in the graph).
     pub removed_nodes: &'a [crate::coherence::RemovedNode],
+    /// The world just analysed: touch events read their normal and impulse from its
+    /// narrow phase when the edges do not keep them (`details` false).
+    pub view: &'a crate::WorldView<'a>,
+    /// Whether the edges' caches hold this step's contact details (proximity
+    /// tracking with details on).
+    pub details: bool,
 }
 
 impl StepMarks<'_> {
+    /// The normal (from `a` to `b`, `a` the smaller slot) and the normal impulse of a
+    /// touching pair: from its edge's cache when the step copied them, else read from
+    /// Rapier's narrow phase (O(the pairs of `a`'s colliders), per touch event).
+    fn contact(&self, a: NodeId, b: NodeId) -> (rapier3d::math::Vector, rapier3d::math::Real) {
+        let found = if self.details {
+            self.graph
+                .edge_by_key(crate::graph::PairKey::of(a, b))
+                .and_then(|e| self.graph.edge(e))
+                .map(|e| (e.cache().normal, e.cache().normal_impulse))
+        } else {
+            crate::coherence::details::read_details(self.graph, self.view, a, b)
+                .map(|c| (c.normal, c.normal_impulse))
+        };
+        found.unwrap_or((rapier3d::math::Vector::ZERO, 0.0))
+    }
+
     fn collider(&self, n: NodeId) -> Option<rapier3d::prelude::ColliderHandle> {
         let source = self.graph.node(n).map(|x| x.source()).or_else(|| {
             self.removed_nodes
@@ -63,6 +85,9 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
             let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
             e.collider_a = m.collider(a);
             e.collider_b = b.and_then(|b| m.collider(b));
+            if let (EventKind::TouchBegin | EventKind::TouchPersist, Some(b)) = (kind, b) {
+                (e.normal, e.impulse) = m.contact(a, b);
+            }
             out.push(e);
         }
     };

@@ -38,7 +38,7 @@ pub(crate) mod collect;
 
 pub use bus::{EventBus, SubscriptionId};
 
-use rapier3d::math::Real;
+use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::NodeId;
@@ -203,7 +203,7 @@ impl From<EventKind> for KindSet {
     }
 }
 
-/// One event. `Copy`, 96 bytes: cheap to send (checked by a unit test).
+/// One event. `Copy`, at most 112 bytes: cheap to send (checked by a unit test).
 ///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
@@ -239,6 +239,18 @@ pub struct Event {
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
     /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
+    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the normal of the
+    /// pair's deepest contact in the step, a unit vector pointing from `a` towards `b`
+    /// (`b` is pushed along it); zero for other kinds, or when Rapier had no contact
+    /// point. Read from the edge's per-step details, or from Rapier's narrow phase
+    /// when those are not kept (touching tracking, details off).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub normal: Vector,
+    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the sum of the
+    /// normal impulses Rapier's solver applied to the pair's contacts in the step
+    /// (N·s); 0 otherwise.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub impulse: Real,
 }
 
 impl Event {
@@ -264,6 +276,8 @@ impl Event {
             tick,
             violation: None,
             value: 0.0,
+            normal: Vector::ZERO,
+            impulse: 0.0,
         }
     }
 
@@ -279,7 +293,11 @@ impl Event {
             self.collider_b,
             self.tick,
             self.violation,
-            self.value.to_bits(),
+            (
+                self.value.to_bits(),
+                self.normal.to_array().map(Real::to_bits),
+                self.impulse.to_bits(),
+            ),
         )
     }
 }
@@ -501,6 +519,6 @@ mod size {
     #[test]
     fn an_event_is_small() {
         let size = std::mem::size_of::<super::Event>();
-        assert!(size <= 96, "Event is {size} bytes");
+        assert!(size <= 112, "Event is {size} bytes");
     }
 }

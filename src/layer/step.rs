@@ -302,6 +302,9 @@ impl ContactLayer {
                 sleep_changes: self.coherence.sleep_changes(),
                 ticks: &self.ticks,
                 removed_nodes: self.coherence.removed_nodes(),
+                view: &view,
+                details: self.coherence.contact_details()
+                    && self.coherence.tracking() == crate::coherence::Tracking::Proximity,
             };
             // Touching tracking keeps no proximity edges and reads no unchanged pair:
             // no proximity or persist events.
