@@ -31,7 +31,9 @@
 //!    `±tolerance` (two one-sided tests at 2.5 % each); equivalent when it is on every
 //!    observable. Otherwise [`Judgement::differs`] names the observables, each with
 //!    the sign of the difference when the interval excludes zero (`+`/`-`) and `?`
-//!    when it only is too wide to decide.
+//!    when it only is too wide to decide. The Wasserstein distance is a distance, 0
+//!    only for the reference itself: it is `+` only when its whole interval lies
+//!    beyond the tolerance (farther than the refinements), else `?`.
 //! 4. **One number.** The chart's accuracy number is the worst observable's
 //!    `|mean difference| / tolerance`: 1.0 is the edge of what the reference itself can
 //!    tell apart; it does not include the interval's width, so a configuration can be
@@ -139,6 +141,9 @@ pub struct Comparison {
     pub interval: Result<Interval, StatsError>,
     /// The tolerance it is judged against.
     pub tolerance: f64,
+    /// Whether the observable is a distance to the reference
+    /// ([`observables::Observable::distance`]).
+    pub distance: bool,
 }
 
 impl Comparison {
@@ -165,12 +170,17 @@ impl Comparison {
     }
 
     /// The sign of a difference that is not equivalent; `None` when equivalent or
-    /// without an interval.
+    /// without an interval. A difference is [`Sign::Higher`] when its interval lies
+    /// above 0, [`Sign::Lower`] below 0, else [`Sign::Undecided`]. A distance is 0 only
+    /// for the reference itself and positive for any other run, so for a distance the
+    /// line is the tolerance instead: `Higher` when the whole interval lies beyond it
+    /// (farther from the reference than its refinements can be), else `Undecided`.
     pub fn sign(&self) -> Option<Sign> {
         let iv = self.interval.as_ref().ok()?;
+        let zero = if self.distance { self.tolerance } else { 0.0 };
         if iv.within(self.tolerance) {
             None
-        } else if iv.lo > 0.0 {
+        } else if iv.lo > zero {
             Some(Sign::Higher)
         } else if iv.hi < 0.0 {
             Some(Sign::Lower)
@@ -260,6 +270,7 @@ pub fn judge(
         .map(|j| Comparison {
             interval: paired_interval(&differences(config, reference, j)),
             tolerance: tolerance[j],
+            distance: OBSERVABLES[j].distance,
         })
         .collect();
     Ok(Judgement {
@@ -360,6 +371,18 @@ mod tests {
         assert_eq!(j.accuracy(), 15.0);
         let more = ensemble(&NOISE, Some((W1, 4.0)));
         assert_eq!(judge(&more, &reference, &tol).unwrap().differs(), "w1+");
+        // A distance whose interval straddles the tolerance is undecided, although it
+        // lies above 0 (every run but the reference's own is at a positive distance).
+        let near: Vec<Outcome> = reference
+            .iter()
+            .enumerate()
+            .map(|(s, o)| {
+                let mut o = *o;
+                o[W1] = 1.0 + 0.2 * NOISE[s];
+                o
+            })
+            .collect();
+        assert_eq!(judge(&near, &reference, &tol).unwrap().differs(), "w1?");
         // Noisy but centred: too wide to decide.
         let noisy: Vec<Outcome> = reference
             .iter()

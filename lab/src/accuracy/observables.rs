@@ -32,6 +32,11 @@ pub struct Observable {
     /// The floor of its tolerance: a difference this small is below what the
     /// observable resolves (one sphere for counts, 1 mm, 1 mm/s, one step of 0.01 s).
     pub resolution: f64,
+    /// A distance to the same-seed reference (0 for the reference itself, positive
+    /// for any other run, chaos included) rather than a value compared by difference:
+    /// its difference is only shown larger when it exceeds the tolerance, the
+    /// refinements' own distance ([`crate::accuracy::Comparison::sign`]).
+    pub distance: bool,
 }
 
 /// Number of observables.
@@ -63,48 +68,56 @@ pub const OBSERVABLES: [Observable; COUNT] = [
         name: "spheres at the rim (in the run-out, x < 4.5 m)",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "groove_D",
         name: "spheres in the D's grooves",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "groove_I",
         name: "spheres in the I's grooves",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "groove_K",
         name: "spheres in the K's grooves",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "groove_U",
         name: "spheres in the U's grooves",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "elsewhere",
         name: "spheres elsewhere (on the land above the run-out, or off the plane)",
         unit: "spheres",
         resolution: 1.0,
+        distance: false,
     },
     Observable {
         key: "pile_centre",
         name: "pile centre: mean along-slope position of the spheres at the rim",
         unit: "m",
         resolution: 0.001,
+        distance: false,
     },
     Observable {
         key: "pile_spread",
         name: "pile spread: standard deviation of their along-slope positions",
         unit: "m",
         resolution: 0.001,
+        distance: false,
     },
     Observable {
         key: "mean_height",
@@ -112,6 +125,7 @@ pub const OBSERVABLES: [Observable; COUNT] = [
             "mean height of the centres above the flat surface (potential energy across the slope)",
         unit: "m",
         resolution: 0.001,
+        distance: false,
     },
     Observable {
         key: "w1",
@@ -119,18 +133,21 @@ pub const OBSERVABLES: [Observable; COUNT] = [
             "Wasserstein-1 distance of the final along-slope positions to the same-seed reference's",
         unit: "m",
         resolution: 0.001,
+        distance: true,
     },
     Observable {
         key: "rms_speed",
         name: "RMS speed of the spheres over 0-3 s",
         unit: "m/s",
         resolution: 0.001,
+        distance: false,
     },
     Observable {
         key: "settling",
         name: "settling time: end of the last step with RMS speed >= 0.05 m/s",
         unit: "s",
         resolution: 0.01,
+        distance: false,
     },
 ];
 
