@@ -22,7 +22,8 @@
 //!    the trajectory deviation.
 //! 2. **Screening:** every configuration on the first `M` seeds (default 2).
 //! 3. **The reported table:** the named configurations (brute force, contact graph,
-//!    stock Rapier, contact graph +repair, and the 8 combinations of `quick`), the
+//!    stock Rapier, contact graph +repair, the 8 combinations of `quick`, and
+//!    fixation alone, `------F`), the
 //!    Pareto front of the screening (zero violations) and the four fastest
 //!    zero-violation configurations whose screening accuracy is within the band, on
 //!    all `K` seeds. `--full` runs every configuration on all `K` seeds instead.
@@ -101,6 +102,10 @@ pub const NAMED_COMBINATIONS: [u8; 8] = [
     0b000_0001, 0b000_0010, 0b001_0000, 0b110_0000, 0b110_0001, 0b111_1001, 0b111_1011, 127,
 ];
 
+/// Fixation alone (`------F`), the paper's big win (its Table 5): always reported on
+/// all seeds with [`NAMED_COMBINATIONS`].
+pub const FIXATE_ALONE: u8 = 0b100_0000;
+
 /// The configurations of a `--configs` value; the reference always comes first.
 pub fn parse_configs(list: &str) -> Result<Configs, String> {
     let mut out = vec![RunSpec::reference()];
@@ -174,6 +179,7 @@ fn is_named(spec: &RunSpec) -> bool {
             !spec.repair
                 && NAMED_COMBINATIONS
                     .iter()
+                    .chain([&FIXATE_ALONE])
                     .any(|&b| SpeedUps::combination(b) == *s)
         }
         _ => false,
@@ -768,7 +774,8 @@ mod tests {
             .filter(|s| is_named(s))
             .map(|s| s.name.as_str())
             .collect();
-        assert_eq!(named.len(), 5 + NAMED_COMBINATIONS.len(), "{named:?}");
+        assert_eq!(named.len(), 5 + NAMED_COMBINATIONS.len() + 1, "{named:?}");
+        assert!(named.contains(&"------F"));
         assert!(named.contains(&"contact graph +repair"));
         assert!(named.contains(&"CTRZDSF"));
         assert!(!is_named(&RunSpec::combination(127).with_repair()));
