@@ -333,6 +333,14 @@ fn extend_runs(
 /// Runs `rcg-lab diku`.
 pub fn run(args: &Args) -> Result<(), String> {
     let specs = &args.configs.0;
+    // The command line refuses these; a caller building `Args` itself gets the same
+    // usage error instead of a panic.
+    if args.seeds < 2 || args.screen_seeds < 2 {
+        return Err(format!(
+            "a paired interval needs at least 2 seeds: --seeds {} --screen-seeds {}",
+            args.seeds, args.screen_seeds
+        ));
+    }
     let k = args.seeds as usize;
     let screen = if args.full {
         k
@@ -764,6 +772,23 @@ mod tests {
             PointKind::Reference
         );
         assert!(parse_configs("bogus").unwrap_err().contains("bogus"));
+    }
+
+    #[test]
+    fn fewer_than_two_seeds_is_a_usage_error_before_anything_runs() {
+        for (seeds, screen_seeds) in [(1, 2), (0, 2), (8, 1)] {
+            let args = Args {
+                spheres: 10,
+                configs: parse_configs("brute").unwrap(),
+                steps: 1,
+                seed: 0,
+                seeds,
+                screen_seeds,
+                full: false,
+                out: std::env::temp_dir().join("rcg_lab_never_written"),
+            };
+            assert!(run(&args).unwrap_err().contains("at least 2 seeds"));
+        }
     }
 
     #[test]
