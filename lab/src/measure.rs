@@ -11,7 +11,10 @@
 //! - `deviation`: against the reference run, for each sampled frame the mean over the
 //!   bodies of the position error, in radii; then the RMS over the frames.
 //! - `violations`: what the plausibility monitor (`rapier_contact_graph::monitor`) reports.
-//! - per-step statistics: groups, largest group's variables, awake bodies.
+//! - per-step statistics: groups, largest group's variables, awake bodies; and for
+//!   the observables of [`crate::accuracy`], the measured bodies' mean square speed
+//!   and the deepest contact penetration of the whole world (from Rapier's narrow
+//!   phase: every contact point of every pair, O(contact points) a step, untimed).
 //!
 //! Only ratios within one process are meaningful on a shared machine: the runner
 //! measures every configuration in one run.
@@ -175,6 +178,14 @@ pub struct RunResult {
     pub awake_series: Vec<u32>,
     /// Per-step timed duration, microseconds.
     pub step_us: Vec<u32>,
+    /// The step length of the run, seconds (the scene's `dt`).
+    pub dt: f64,
+    /// Per-step mean over the measured bodies of the squared linear speed, m²/s²
+    /// (NaN once a body's velocity is not finite or a body is missing).
+    pub ms_speed_series: Vec<f32>,
+    /// Per-step deepest penetration of any contact point in the world, metres (0 when
+    /// nothing penetrates).
+    pub penetration_series: Vec<f32>,
 }
 
 /// Options of a run.
@@ -237,6 +248,40 @@ pub fn deviation(run: &Trajectory, reference: &Trajectory, radius: Real) -> f64 
     } else {
         (sum_sq / frames as f64).sqrt()
     }
+}
+
+/// The measured bodies' mean squared linear speed, m²/s²: NaN if a body is missing or
+/// its velocity is not finite. O(bodies).
+pub fn mean_square_speed(scene: &Scene, bodies: &[RigidBodyHandle]) -> f64 {
+    if bodies.is_empty() {
+        return 0.0;
+    }
+    let sum: f64 = bodies
+        .iter()
+        .map(|&h| {
+            scene
+                .world
+                .bodies
+                .get(h)
+                .map_or(f64::NAN, |b| b.linvel().length_squared() as f64)
+        })
+        .sum();
+    sum / bodies.len() as f64
+}
+
+/// The deepest penetration of any contact point of Rapier's narrow phase, metres (0
+/// when none penetrates; speculative contacts have positive distances). Reads every
+/// contact pair's manifolds: O(contact points).
+pub fn deepest_penetration(scene: &Scene) -> f64 {
+    let mut deepest = 0.0f64;
+    for pair in scene.world.narrow_phase.contact_pairs() {
+        for m in pair.manifolds() {
+            for p in &m.points {
+                deepest = deepest.max(-(p.dist as f64));
+            }
+        }
+    }
+    deepest
 }
 
 /// Runs one configuration on a freshly built scene. Returns the result and the
@@ -307,6 +352,8 @@ pub fn run(
     let reserve = opts.steps.min(1 << 20) as usize;
     let mut awake_series = Vec::with_capacity(reserve);
     let mut step_us = Vec::with_capacity(reserve);
+    let mut ms_speed_series = Vec::with_capacity(reserve);
+    let mut penetration_series = Vec::with_capacity(reserve);
     let mut final_awake = 0usize;
     for step in 0..opts.steps {
         scene.before_step(step);
@@ -342,6 +389,8 @@ pub fn run(
             groups_sum += stats.groups.groups as f64;
             max_vars = max_vars.max(stats.groups.largest_variables);
         }
+        ms_speed_series.push(mean_square_speed(&scene, opts.bodies) as f32);
+        penetration_series.push(deepest_penetration(&scene) as f32);
         if (step + 1) % opts.sample_every == 0 || step + 1 == opts.steps {
             traj.frames.push(sample(&scene, opts.bodies));
         }
@@ -387,6 +436,9 @@ pub fn run(
             left_region,
             awake_series,
             step_us,
+            dt: scene.world.integration_parameters.dt as f64,
+            ms_speed_series,
+            penetration_series,
         },
         traj,
     ))

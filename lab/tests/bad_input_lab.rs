@@ -244,6 +244,7 @@ fn charts_with_nan_empty_and_extreme_input() {
         x_label: "\u{0}\u{202e}<&>",
         y_label: &huge,
         log_y: true,
+        band: Some(f64::NAN),
     };
     let svg = no_panic("chart with odd spec", || report::svg(&[], &odd_spec));
     assert!(svg.contains("height=\"8192\"") && !svg.contains("<&>"));

@@ -185,6 +185,34 @@ pub fn is_in_groove(params: &DikuParams, pos: Vector) -> bool {
     to_plane_frame(params, pos).y < params.radius - GROOVE_DEPTH / 2.0
 }
 
+/// The letters engraved across the slope, in reading order (`+z`): index `i` of
+/// [`groove_letter`] is `LETTERS[i]`.
+pub const LETTERS: [char; 4] = ['D', 'I', 'K', 'U'];
+
+/// Which letter's groove a sphere of the scene's radius centred at world-space `pos`
+/// lies in: the index into [`LETTERS`] of the letter whose stroke cell is under the
+/// centre, when the sphere is in a groove ([`is_in_groove`]); `None` otherwise
+/// (also for a centre over no groove cell, or a non-finite position). O(1).
+pub fn groove_letter(params: &DikuParams, pos: Vector) -> Option<usize> {
+    if !is_in_groove(params, pos) {
+        return None;
+    }
+    let p = to_plane_frame(params, pos);
+    let band_hi = RUNOUT + LETTER_ROWS as Real * CELL;
+    let w = plane_width(params.spheres);
+    let (along, across) = ((band_hi - p.x) / CELL, (p.z + w / 2.0) / CELL);
+    // Negative, NaN or beyond the band: no cell.
+    if !(along >= 0.0 && across >= 0.0) {
+        return None;
+    }
+    let (row, col) = (along as usize, across as usize);
+    let cols = BLOCK_CELLS * blocks(params.spheres) + 1;
+    if row >= LETTER_ROWS || col >= cols || !is_groove(row, col) {
+        return None;
+    }
+    Some(((col - 1) % BLOCK_CELLS) / (LETTER_COLS + 1))
+}
+
 /// Whether cell (`row`, `col`) of the letter band is a groove. Row 0 is the top row
 /// (uphill); column 0 is the blank column at `z = -w/2`.
 fn is_groove(row: usize, col: usize) -> bool {
@@ -418,6 +446,35 @@ mod tests {
         // The I's stem: a groove in the middle row.
         assert!(is_groove(2, 1 + 6 + 2));
         assert!(!is_groove(2, 1 + 6 + 1));
+    }
+
+    #[test]
+    fn groove_letters_are_found_by_their_cells() {
+        let params = DikuParams::default();
+        let pose = plane_pose(&params);
+        let w = plane_width(params.spheres);
+        let band_hi = RUNOUT + LETTER_ROWS as Real * CELL;
+        // A sphere on a groove bottom at the centre of cell (row, col).
+        let at = |row: usize, col: usize, y: Real| {
+            pose.transform_point(Vector::new(
+                band_hi - (row as Real + 0.5) * CELL,
+                y,
+                -w / 2.0 + (col as Real + 0.5) * CELL,
+            ))
+        };
+        let bottom = params.radius - GROOVE_DEPTH;
+        // D's stem (column 1), I's stem (1 + 6 + 2), K's stem (13), U's right side.
+        assert_eq!(groove_letter(&params, at(2, 1, bottom)), Some(0));
+        assert_eq!(groove_letter(&params, at(2, 9, bottom)), Some(1));
+        assert_eq!(groove_letter(&params, at(0, 13, bottom)), Some(2));
+        assert_eq!(groove_letter(&params, at(3, 23, bottom)), Some(3));
+        // On land, resting on the flat surface, or off the band: none.
+        assert_eq!(groove_letter(&params, at(2, 8, bottom)), None);
+        assert_eq!(groove_letter(&params, at(2, 1, params.radius)), None);
+        let runout = pose.transform_point(Vector::new(1.0, bottom, 0.0));
+        assert_eq!(groove_letter(&params, runout), None);
+        assert_eq!(groove_letter(&params, Vector::splat(Real::NAN)), None);
+        assert_eq!(LETTERS, ['D', 'I', 'K', 'U']);
     }
 
     #[test]

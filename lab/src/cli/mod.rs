@@ -1,7 +1,8 @@
 //! The laboratory's command line: one binary, `rcg-lab`, with a subcommand per runner.
 //!
 //! ```text
-//! cargo lab diku [--spheres N] [--configs all|quick|LIST] [--steps K] [--seed S] [--out DIR]
+//! cargo lab diku [--spheres N] [--configs default|all|quick|LIST] [--steps K] [--seed S]
+//!                [--seeds K] [--screen-seeds M] [--full] [--out DIR]
 //! cargo lab stability [--configs all|quick|LIST] [--scenes all|LIST] [--repair] [--out DIR]
 //! cargo lab frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]
 //! ```
@@ -47,8 +48,8 @@ pub struct Cli {
 /// The runners.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// The DIKU scene under every configuration: speed against accuracy, table, CSV
-    /// and chart (paper §7).
+    /// The DIKU scene under every configuration: speed against accuracy on paired
+    /// seed ensembles, table, CSV and chart (paper §7; issue 11).
     Diku(diku::Args),
     /// The stability suite: every scene under the configurations, violations and
     /// deviation per scene, and whether each target's failure shows.
@@ -130,9 +131,19 @@ mod tests {
     #[test]
     fn csv_files_keep_their_columns() {
         // The columns of the hand-written CSV files before the csv crate.
+        // The DIKU run's columns changed with the accuracy measure (issue 11).
         assert_eq!(
             diku::CSV_HEADER.join(","),
-            "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,time_s,speedup_brute,speedup_stock,deviation_radii,violations,hanging,launch,penetration,escape,mean_groups,max_group_variables,mean_awake,final_awake,last_second_s,left_plane"
+            "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,seeds,time_s,speedup_brute,speedup_stock,accuracy,equivalent,differs,not_judged,deviation_radii,violations,hanging,launch,penetration,escape,peak_penetration_mm,resting_penetration_mm,mean_groups,mean_awake,last_second_s,left_plane"
+        );
+        let per_observable = diku::observable_columns();
+        assert_eq!(
+            per_observable.len(),
+            5 * crate::accuracy::observables::COUNT
+        );
+        assert_eq!(
+            per_observable[..5].join(","),
+            "rim_ref,rim_diff,rim_lo,rim_hi,rim_tol"
         );
         assert_eq!(
             stability::CSV_HEADER.join(","),
@@ -187,6 +198,7 @@ mod tests {
         match cli.command {
             Command::Diku(a) => {
                 assert_eq!((a.spheres, a.steps, a.seed), (30, 50, 0));
+                assert_eq!((a.seeds, a.screen_seeds, a.full), (8, 2, false));
                 assert_eq!(a.configs.0.len(), 20);
                 assert_eq!(a.configs.0[0].name, "reference");
             }
@@ -197,6 +209,9 @@ mod tests {
             &["rcg-lab", "diku", "--steps", "-1"],
             &["rcg-lab", "diku", "--configs", "brute,nonsense"],
             &["rcg-lab", "diku", "--bogus"],
+            // Fewer than two seeds cannot give an interval: a usage error.
+            &["rcg-lab", "diku", "--seeds", "1"],
+            &["rcg-lab", "diku", "--screen-seeds", "0"],
             &["rcg-lab", "stability", "--scenes", "no_such_scene"],
             &["rcg-lab", "frames", "--size", "800"],
             &["rcg-lab", "frames", "--every", "0"],

@@ -35,6 +35,9 @@ const GRID_MINOR: RGBColor = RGBColor(0xF0, 0xF0, 0xF0);
 pub(crate) const FRONT: RGBColor = RGBColor(0xFF, 0x7F, 0x0E);
 /// The cross marking a point with violations.
 pub(crate) const VIOLATION: RGBColor = RGBColor(0xD6, 0x27, 0x28);
+/// The equivalence band's fill (green, drawn at 35 % over the grid) and its edge.
+const BAND: RGBColor = RGBColor(0x9C, 0xD8, 0x90);
+const BAND_EDGE: RGBColor = RGBColor(0x2C, 0x8A, 0x2C);
 const LEADER: RGBColor = RGBColor(0x99, 0x99, 0x99);
 const LEGEND_BORDER: RGBColor = RGBColor(0xBB, 0xBB, 0xBB);
 
@@ -271,7 +274,10 @@ pub(crate) fn draw<DB: DrawingBackend>(
     ))?;
 
     // Axes, and the margins their text needs.
-    let (x_axis, y_axis) = axes(points, &visible, spec.log_y, w, h);
+    let band = spec
+        .band
+        .filter(|b| b.is_finite() && *b > 0.0 && *b < LIMIT);
+    let (x_axis, y_axis) = axes(points, &visible, spec.log_y, band, w, h);
     let tick_w = y_axis
         .labels
         .iter()
@@ -332,6 +338,32 @@ pub(crate) fn draw<DB: DrawingBackend>(
         [(xs.start, ys.start), (xs.end - 1, ys.end - 1)],
         FRAME.stroke_width(1),
     ))?;
+
+    // The equivalence band behind everything else: x from the axis' start to `band`.
+    if let Some(b) = band {
+        // Drawing space: the axes' `place` pins to their ends.
+        let ((x0, _), (y0, y1)) = (x_axis.span(), y_axis.span());
+        let x1 = x_axis.place(b);
+        if x1 > x0 {
+            let corners = [(x0, y1), (x1, y0)];
+            chart.draw_series(std::iter::once(Rectangle::new(
+                corners,
+                BAND.mix(0.35).filled(),
+            )))?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(x1, y0), (x1, y1)],
+                BAND_EDGE.stroke_width(2),
+            )))?;
+            let (px, py) = chart.backend_coord(&(x1, y0.max(y1)));
+            root.draw(&Text::new(
+                "equivalent",
+                (px - 4, py + 4),
+                text::font(SMALL_SIZE)
+                    .color(&BAND_EDGE)
+                    .pos(Pos::new(HPos::Right, VPos::Top)),
+            ))?;
+        }
+    }
 
     // The front as a step line: from each point right to the next one's deviation,
     // then up to its speed-up (the best speed-up available at that accuracy).
@@ -425,7 +457,14 @@ pub(crate) fn draw<DB: DrawingBackend>(
 
 /// Axis ranges and ticks for the visible points, about one labelled tick per 110 px
 /// across and per 70 px up.
-fn axes(points: &[ChartPoint], visible: &[usize], log_y: bool, w: f64, h: f64) -> (Axis, Axis) {
+fn axes(
+    points: &[ChartPoint],
+    visible: &[usize],
+    log_y: bool,
+    band: Option<f64>,
+    w: f64,
+    h: f64,
+) -> (Axis, Axis) {
     let min_max = |f: &dyn Fn(&ChartPoint) -> f64| {
         visible
             .iter()
@@ -440,6 +479,8 @@ fn axes(points: &[ChartPoint], visible: &[usize], log_y: bool, w: f64, h: f64) -
     // 1e±150 on the log axis) are cut there, so that the padding and tick arithmetic
     // cannot overflow; points beyond sit on the frame.
     let (x_lo, x_hi) = min_max(&|p| p.deviation.clamp(-LIMIT, LIMIT)).unwrap_or((0.0, 1.0));
+    // The band's edge stays in view, with a little room beyond it.
+    let x_hi = band.map_or(x_hi, |b| x_hi.max(b * 1.15));
     let x = Axis::linear(x_lo.min(0.0), x_hi.max(0.0), x_target);
     let y = if log_y {
         let (lo, hi) = min_max(&|p| p.speedup.clamp(1.0 / LIMIT, LIMIT)).unwrap_or((1.0, 10.0));

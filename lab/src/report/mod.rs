@@ -79,7 +79,10 @@ pub struct ChartPoint {
     /// The configuration's name, e.g. `"cache+tweak+fixate"`; shown next to labelled
     /// points and in the SVG tooltip.
     pub label: String,
-    /// x: accuracy loss against the reference, in sphere radii (lower is better).
+    /// x: accuracy loss against the reference, lower is better. The DIKU chart puts
+    /// the accuracy number of [`crate::accuracy`] here (the worst observable's
+    /// |paired mean difference| / tolerance; 1 = the reference's own error); the
+    /// stability suite a deviation in sphere radii.
     pub deviation: f64,
     /// y: speed-up over brute force (higher is better).
     pub speedup: f64,
@@ -220,6 +223,11 @@ pub struct ChartSpec<'a> {
     pub height: u32,
     /// Logarithmic y axis (points with speed-up ≤ 0 are then left out).
     pub log_y: bool,
+    /// The equivalence band: when set (finite, positive), the region `x <= band` is
+    /// shaded green and labelled, and the x axis reaches at least a little past it.
+    /// The DIKU chart sets 1.0: configurations left of it differ from the reference
+    /// by less than the reference's own discretisation error.
+    pub band: Option<f64>,
 }
 
 impl Default for ChartSpec<'static> {
@@ -232,6 +240,7 @@ impl Default for ChartSpec<'static> {
             width: 900,
             height: 600,
             log_y: true,
+            band: None,
         }
     }
 }
