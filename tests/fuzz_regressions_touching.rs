@@ -12,6 +12,11 @@ mod harness;
 
 use harness::{run, Op};
 
+/// A dynamic ball on the arena's grid.
+fn ball(x: i8, y: u8, z: i8, r: u8) -> Op {
+    Op::Ball { x, y, z, r }
+}
+
 /// A subscription to a proximity kind switched tracking to proximity; dropping it
 /// switched back to touching, whose rescan kept an edge whose count of touching
 /// collider pairs was already right but whose contact count was proximity
@@ -26,12 +31,7 @@ fn fixed_switching_back_to_touching_recounts_contacts() {
             capacity: 0,
             node: None,
         },
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
         Op::RemoveBody(0),
         Op::SetParent(50, Some(0)),
         Op::DropReceiver(0),
@@ -48,12 +48,7 @@ fn fixed_switching_back_to_touching_recounts_contacts() {
 fn fixed_a_body_disabled_by_rapier_loses_its_touches() {
     let ops = [
         Op::Touching(true),
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 1,
-            r: 0,
-        },
+        ball(0, 0, 1, 0),
         Op::RemoveCollider(46),
         Op::RemoveCollider(4),
         Op::SetType(84, harness::Ty::Dynamic),
@@ -63,12 +58,7 @@ fn fixed_a_body_disabled_by_rapier_loses_its_touches() {
             y: 2,
             z: 3,
         },
-        Op::Ball {
-            x: -3,
-            y: 5,
-            z: 0,
-            r: 0,
-        },
+        ball(-3, 5, 0, 0),
         Op::Multibody { a: 151, b: 189 },
         Op::Step(1),
         Op::Step(1),
@@ -99,12 +89,7 @@ fn fixed_a_body_disabled_by_rapier_loses_its_touches() {
 fn fixed_a_collider_removed_from_a_fixed_body_ends_its_touches() {
     let ops = [
         Op::Touching(true),
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
         Op::Step(20),
         Op::RemoveCollider(0),
     ];
@@ -117,7 +102,6 @@ fn fixed_a_collider_removed_from_a_fixed_body_ends_its_touches() {
 /// 1)"). Passes since the rescan settles such edges again with the count it read.
 #[test]
 fn fixed_switching_to_touching_recounts_edges_the_events_changed() {
-    let ball = |x, y, z, r| Op::Ball { x, y, z, r };
     let ops = [
         Op::Touching(true),
         ball(0, 0, 0, 0),
@@ -160,53 +144,18 @@ fn fixed_switching_to_touching_drops_edges_whose_proximity_ended() {
             z: 0,
             r: 2,
         },
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: -1,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
+        ball(0, 0, -1, 0),
         Op::SpeedUps(Some(0)),
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
         Op::Step(1),
         Op::Step(2),
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
         Op::Step(2),
         Op::SpeedUps(None),
-        Op::Ball {
-            x: 0,
-            y: 0,
-            z: 0,
-            r: 0,
-        },
+        ball(0, 0, 0, 0),
         Op::Step(1),
         Op::Passive(83, true),
     ];
@@ -222,17 +171,11 @@ fn fixed_switching_to_touching_drops_edges_whose_proximity_ended() {
 /// counted again.
 #[test]
 fn fixed_a_collider_disabled_in_place_ends_touches_begun_before_the_flag() {
-    let ball = Op::Ball {
-        x: 0,
-        y: 0,
-        z: 0,
-        r: 0,
-    };
     let ops = [
         Op::Touching(true),
-        ball.clone(),
+        ball(0, 0, 0, 0),
         Op::SpeedUps(Some(0)),
-        ball,
+        ball(0, 0, 0, 0),
         Op::SpeedUps(None),
         Op::Step(2),
         Op::ColliderEnabled(6, false),
