@@ -209,16 +209,20 @@ pub struct RunOptions<'a> {
 /// Every body's position (NaN for a body the scene lacks), in the given order: one
 /// frame of a [`Trajectory`]. O(bodies).
 pub fn sample(scene: &Scene, bodies: &[RigidBodyHandle]) -> Vec<Vector> {
+    per_body(scene, bodies, Vector::splat(Real::NAN), |b| b.translation()).collect()
+}
+
+/// `f` of each of `bodies` in order, `missing` for a body the scene lacks. O(1) per
+/// item.
+fn per_body<'a, T: Copy + 'a>(
+    scene: &'a Scene,
+    bodies: &'a [RigidBodyHandle],
+    missing: T,
+    f: impl Fn(&rapier3d::prelude::RigidBody) -> T + 'a,
+) -> impl Iterator<Item = T> + 'a {
     bodies
         .iter()
-        .map(|&h| {
-            scene
-                .world
-                .bodies
-                .get(h)
-                .map_or(Vector::splat(Real::NAN), |b| b.translation())
-        })
-        .collect()
+        .map(move |&h| scene.world.bodies.get(h).map_or(missing, &f))
 }
 
 /// The deviation of a trajectory from a reference: RMS over frames of the mean
@@ -256,16 +260,10 @@ pub fn mean_square_speed(scene: &Scene, bodies: &[RigidBodyHandle]) -> f64 {
     if bodies.is_empty() {
         return 0.0;
     }
-    let sum: f64 = bodies
-        .iter()
-        .map(|&h| {
-            scene
-                .world
-                .bodies
-                .get(h)
-                .map_or(f64::NAN, |b| b.linvel().length_squared() as f64)
-        })
-        .sum();
+    let sum: f64 = per_body(scene, bodies, f64::NAN, |b| {
+        b.linvel().length_squared() as f64
+    })
+    .sum();
     sum / bodies.len() as f64
 }
 

@@ -486,8 +486,8 @@ impl Coherence {
             if want > 0
                 && c.collider_pairs == want
                 && c.contact_count == want
-                && (want > 0) == c.touching
-                && c.touching == c.proximity
+                && c.touching
+                && c.proximity
             {
                 continue;
             }
@@ -500,15 +500,14 @@ impl Coherence {
                 e.cache.collider_pairs = want;
             }
         }
-        if again.is_empty() {
-            self.settle_touch_edges(graph, &changed);
-            return;
-        }
-        changed.extend_from_slice(&again);
+        let settled_twice = !again.is_empty();
+        changed.append(&mut again);
         self.settle_touch_edges(graph, &changed);
-        // An edge settled twice is in the touched list twice: keep the first.
-        let mut seen = std::collections::HashSet::new();
-        self.touched.retain(|e| seen.insert(*e));
+        if settled_twice {
+            // Those edges are in the touched list twice: keep the first.
+            let mut seen = std::collections::HashSet::new();
+            self.touched.retain(|e| seen.insert(*e));
+        }
     }
 
     /// Starts this step's update of a physical edge in touching tracking (once per

@@ -494,19 +494,19 @@ impl Coherence {
         if resigned {
             self.colliders_moved(graph, view, id, h);
         }
-        // Under touching tracking, a collider of this body disabled or enabled again
-        // in place: its pairs went or come without a `Stopped` Rapier would send
-        // (those of pairs touching before the layer flagged them), so they are
-        // counted again. Proximity tracking reads the pairs of refreshed bodies
-        // anyway.
-        let disabled = match (rb, self.tracking) {
-            (Some(rb), Tracking::Touching) => nodes::disabled_sig(view, rb.colliders()),
-            _ => 0,
-        };
         if let Some(n) = graph.node_mut(id) {
             if n.seen_step == step {
                 return;
             }
+            // Under touching tracking, a collider of this body disabled or enabled
+            // again in place: its pairs went or come without a `Stopped` Rapier would
+            // send (those of pairs touching before the layer flagged them), so they
+            // are counted again. Proximity tracking reads the pairs of refreshed
+            // bodies anyway.
+            let disabled = match (rb, self.tracking) {
+                (Some(rb), Tracking::Touching) => nodes::disabled_sig(view, rb.colliders()),
+                _ => 0,
+            };
             if n.disabled_sig != disabled {
                 n.disabled_sig = disabled;
                 self.stale.push(id);

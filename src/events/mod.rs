@@ -379,19 +379,13 @@ impl Filter {
     }
     /// Restricts to events naming one of `bodies` (see the type's docs). O(n log n).
     pub fn with_bodies(mut self, bodies: &[RigidBodyHandle]) -> Self {
-        let mut v = bodies.to_vec();
-        v.sort_unstable_by_key(|h| h.into_raw_parts());
-        v.dedup();
-        self.bodies = Some(v);
+        self.bodies = Some(sorted_handles(bodies, RigidBodyHandle::into_raw_parts));
         self
     }
     /// Restricts to events naming one of `colliders` (see the type's docs).
     /// O(n log n).
     pub fn with_colliders(mut self, colliders: &[ColliderHandle]) -> Self {
-        let mut v = colliders.to_vec();
-        v.sort_unstable_by_key(|h| h.into_raw_parts());
-        v.dedup();
-        self.colliders = Some(v);
+        self.colliders = Some(sorted_handles(colliders, ColliderHandle::into_raw_parts));
         self
     }
     /// The body restriction, if any (sorted by index and generation).
@@ -408,18 +402,8 @@ impl Filter {
         if self.bodies.is_none() && self.colliders.is_none() {
             return None;
         }
-        let body = |h: Option<RigidBodyHandle>| {
-            h.zip(self.bodies.as_deref()).is_some_and(|(h, set)| {
-                set.binary_search_by_key(&h.into_raw_parts(), |b| b.into_raw_parts())
-                    .is_ok()
-            })
-        };
-        let collider = |c: Option<ColliderHandle>| {
-            c.zip(self.colliders.as_deref()).is_some_and(|(c, set)| {
-                set.binary_search_by_key(&c.into_raw_parts(), |x| x.into_raw_parts())
-                    .is_ok()
-            })
-        };
+        let body = |h| holds(self.bodies.as_deref(), h, RigidBodyHandle::into_raw_parts);
+        let collider = |c| holds(self.colliders.as_deref(), c, ColliderHandle::into_raw_parts);
         Some(
             body(ev.body_a)
                 || body(ev.body_b)
@@ -449,6 +433,21 @@ impl Filter {
     pub fn nodes(&self) -> Option<&[NodeId]> {
         self.nodes.as_deref()
     }
+}
+
+/// Handles sorted by index and generation, without repeats: a filter's restriction.
+fn sorted_handles<H: Copy>(handles: &[H], raw: fn(H) -> (u32, u32)) -> Vec<H> {
+    let mut v = handles.to_vec();
+    v.sort_unstable_by_key(|&h| raw(h));
+    v.dedup_by_key(|h| raw(*h));
+    v
+}
+
+/// Whether a restriction sorted by [`sorted_handles`] holds the handle `h` names.
+/// O(log n).
+fn holds<H: Copy>(set: Option<&[H]>, h: Option<H>, raw: fn(H) -> (u32, u32)) -> bool {
+    h.zip(set)
+        .is_some_and(|(h, set)| set.binary_search_by_key(&raw(h), |&x| raw(x)).is_ok())
 }
 
 /// The kinds of plausibility violation (paper §8, Figs. 15 and 17; defined in `docs/ARCHITECTURE.md` §6), in report order.

@@ -104,19 +104,27 @@ impl ContactLayer {
             return Ok(Vec::new());
         }
         let up = -(self.gravity / scale).normalize();
+        // The normal points from the body towards the other: it pushes the body
+        // along -normal.
         let supports = self.graph.touching(n).filter(|&m| {
-            read_details(&self.graph, &view, n, m).is_some_and(|c| {
-                // Oriented from the smaller slot to the larger: it pushes the larger
-                // along +normal.
-                let push = if n.index() > m.index() {
-                    c.normal
-                } else {
-                    -c.normal
-                };
-                c.touching && push.dot(up) > min_cos
-            })
+            self.details_from(&view, n, m)
+                .is_some_and(|c| c.touching && (-c.normal).dot(up) > min_cos)
         });
         Ok(self.touching_of(sorted(supports)))
+    }
+
+    /// The details of the contact between `n` and `m` read from Rapier, with the
+    /// normal and the push pointing from `n` towards `m` (Rapier's pair orientation
+    /// follows the edge's, from the smaller slot to the larger). O(the contact pairs
+    /// of the smaller slot's colliders).
+    fn details_from(&self, view: &WorldView, n: NodeId, m: NodeId) -> Option<ContactCache> {
+        read_details(&self.graph, view, n, m).map(|mut c| {
+            if n.index() > m.index() {
+                c.normal = -c.normal;
+                c.push = -c.push;
+            }
+            c
+        })
     }
 
     /// The contact between `body` and `other` as Rapier's narrow phase holds it now:
@@ -151,13 +159,7 @@ impl ContactLayer {
         let Some(m) = m else {
             return Ok(None);
         };
-        Ok(read_details(&self.graph, &view, n, m).map(|mut c| {
-            if n.index() > m.index() {
-                c.normal = -c.normal;
-                c.push = -c.push;
-            }
-            c
-        }))
+        Ok(self.details_from(&view, n, m))
     }
 
     /// The bodies and static colliders inside a sensor collider (their colliders
