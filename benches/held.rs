@@ -13,8 +13,9 @@
 //! world the first step from which 95% of the dynamic bodies stay held or asleep.
 //!
 //! Scenes: `boxes` (500 boxes in stacks: stock Rapier sleeps them), `pyramid` (a
-//! 40-row pyramid, 820 boxes: stock sleeps it too) and `spheres` (the 1,000-sphere
-//! pile in a bin, which stock Rapier leaves partly awake).
+//! 40-row pyramid, 820 boxes: stock sleeps it too), `spheres` (the 1,000-sphere
+//! pile in a bin, which stock Rapier leaves partly awake) and `mixed` (the same bin
+//! with 500 balls and 500 boxes); on request also `spheres5000` (5,000 spheres).
 //!
 //! ```text
 //! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
@@ -33,7 +34,8 @@ use rcg_scenes as scenes;
 #[derive(Parser)]
 #[command(about = "Held bodies against stock Rapier's sleeping bodies")]
 struct Args {
-    /// Scenes to run (boxes, pyramid, spheres); all when omitted.
+    /// Scenes to run (boxes, pyramid, spheres, mixed, spheres5000); all but
+    /// spheres5000 when omitted.
     #[arg(long = "scene")]
     scenes: Vec<String>,
     /// Steps per run (dt = 0.01 s).
@@ -58,6 +60,8 @@ fn build(scene: &str) -> Option<PhysicsWorld> {
         "boxes" => scenes::box_pile(500, 1).world,
         "pyramid" => scenes::stability::pyramid::pyramid_of(40).world,
         "spheres" => scenes::sphere_pile(1000, 1).world,
+        "mixed" => scenes::mixed_pile(1000, 1).world,
+        "spheres5000" => scenes::sphere_pile(5000, 1).world,
         _ => return None,
     })
 }
@@ -179,7 +183,9 @@ fn spread(mut v: Vec<f64>) -> String {
 fn main() {
     let args = Args::parse();
     let chosen: Vec<String> = if args.scenes.is_empty() {
-        ["boxes", "pyramid", "spheres"].map(String::from).to_vec()
+        ["boxes", "pyramid", "spheres", "mixed"]
+            .map(String::from)
+            .to_vec()
     } else {
         args.scenes.clone()
     };
@@ -197,7 +203,9 @@ fn main() {
     );
     for scene in &chosen {
         if build(scene).is_none() {
-            eprintln!("held: unknown scene {scene:?} (boxes, pyramid, spheres)");
+            eprintln!(
+                "held: unknown scene {scene:?} (boxes, pyramid, spheres, mixed, spheres5000)"
+            );
             std::process::exit(2);
         }
         let runs: Vec<Run> = (0..args.repeats).map(|_| run(scene, &args)).collect();

@@ -1,167 +1,175 @@
-//! Overhead of the contact-graph layer over plain Rapier (docs/ARCHITECTURE.md §6: ≤ 3% of Rapier's
-//! step time on a 5,000-sphere pile, ratio measured within one run).
+//! What observing costs: the contact-graph layer, observe-only, against plain Rapier on
+//! the same pile (the README's "Overhead of the observe-only layer").
 //!
-//! For each pile size N two identical worlds are built with `scenes::sphere_pile(N, 1)`
-//! and stepped in lockstep:
+//! For each scene and size two identical worlds are built and stepped in lockstep:
 //! - *plain*: `world.step()` only;
-//! - *layered*: `world.step()` then `layer.analyze(WorldView::from(&world))` — the same
-//!   work as `ContactLayer::step`, with the Rapier part and the analysis timed apart.
+//! - *layered*: what `ContactLayer::step` does, timed in two parts: Rapier's step (with
+//!   the layer's hooks and event handler) and the layer's own work (`pre_step` and
+//!   `analyze`), with the subscriptions asked for, their receivers drained every step.
 //!
 //! The order alternates every step (plain first, then layered first) so that machine
-//! noise (a shared 2-core box) hits both runs alike. Only ratios within one run are
-//! meaningful; absolute times are printed for orientation only.
+//! noise (a shared 2-core box) hits both alike; every step is timed in thread CPU time.
+//! Only ratios within one run mean anything; absolute times are for orientation. Each
+//! configuration runs `--repeats` times: min / median / max of the ratios are printed.
 //!
-//! Usage:
+//! Subscriptions (`--events`):
+//! - `contact` (default): contact starts and stops and sensor entries and exits, what
+//!   a user who wants "who touches what" subscribes to. The layer then follows Rapier's
+//!   own collision events (touching tracking, its default).
+//! - `all`: every kind, proximity and persist events included: every awake pair is
+//!   read every step (proximity tracking, while that subscription lasts).
+//! - `none`: no subscription (queries only).
+//!
+//! `--tracking proximity` asks for proximity tracking whatever the subscriptions.
+//!
 //! ```text
-//! cargo bench --bench overhead                      # N = 1000 and 5000, 600 steps
-//! cargo bench --bench overhead -- 1000              # only N = 1000
-//! cargo bench --bench overhead -- 5000 --steps 300  # other step count
-//! cargo bench --bench overhead -- --touching        # touching tracking (Rapier's events)
+//! cargo bench --bench overhead                                  # spheres, N = 1000 and 5000
+//! cargo bench --bench overhead -- --scene mixed 1000            # 1,000 balls and boxes
+//! cargo bench --bench overhead -- --events all --repeats 3      # proximity and persist
 //! ```
-//! With `--touching` the layered world is stepped as a user stepping Rapier
-//! themselves would: `pre_step` (timed with the analysis), Rapier's step with the
-//! layer's hooks and event handler, then `analyze`.
 //! The default 600 steps (6 simulated seconds at dt = 0.01) cover the fall and the
-//! settling of the pile, when (almost) every body is awake; the last 200 steps are
-//! also reported on their own as the "settled" phase.
+//! settling of the pile; the last `--tail` steps are also reported on their own as the
+//! "settled" phase.
 
 use std::hint::black_box;
-use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
+use cpu_time::ThreadTime;
 use rapier3d::prelude::PhysicsWorld;
-use rapier_contact_graph::{ContactLayer, WorldView};
+use rapier_contact_graph::coherence::Tracking;
+use rapier_contact_graph::events::{Event, EventKind, Filter, KindSet};
+use rapier_contact_graph::{ContactLayer, Receiver, WorldMut, WorldView};
 use rcg_scenes as scenes;
 
-const DEFAULT_SIZES: [usize; 2] = [1000, 5000];
-const DEFAULT_STEPS: usize = 600;
-/// Length of the tail reported separately (the settled phase).
-const TAIL: usize = 200;
 const SEED: u64 = 1;
 
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum SceneArg {
+    /// `sphere_pile(N)`: N spheres dropped into a bin (Rapier sleeps almost none).
+    Spheres,
+    /// `mixed_pile(N)`: the same with every second body a box.
+    Mixed,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum EventsArg {
+    /// Contact started / stopped, sensor started / stopped.
+    Contact,
+    /// Every kind (proximity and persist included).
+    All,
+    /// No subscription.
+    None,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum TrackingArg {
+    /// The layer's default: touching tracking where nothing needs every pair.
+    Touching,
+    /// Proximity tracking whatever the subscriptions.
+    Proximity,
+}
+
+#[derive(Parser)]
+#[command(about = "What the observe-only layer costs over plain Rapier")]
 struct Args {
+    /// Pile sizes.
+    #[arg(default_values_t = [1000, 5000])]
     sizes: Vec<usize>,
+    /// Scenes (repeatable).
+    #[arg(long = "scene", value_enum, default_values_t = [SceneArg::Spheres])]
+    scenes: Vec<SceneArg>,
+    /// Subscriptions.
+    #[arg(long, value_enum, default_value_t = EventsArg::Contact)]
+    events: EventsArg,
+    /// Tracking asked for.
+    #[arg(long, value_enum, default_value_t = TrackingArg::Touching)]
+    tracking: TrackingArg,
+    /// Steps per run (dt = 0.01 s).
+    #[arg(long, default_value_t = 600)]
     steps: usize,
-    /// Touching tracking (Rapier's collision events drive the graph) instead of
-    /// proximity tracking.
-    touching: bool,
+    /// Steps at the end counted as the settled phase.
+    #[arg(long, default_value_t = 200)]
+    tail: usize,
+    /// Runs per configuration (min / median / max are printed).
+    #[arg(long, default_value_t = 1)]
+    repeats: usize,
+    /// cargo passes `--bench` to benches without the default harness.
+    #[arg(long, hide = true)]
+    bench: bool,
 }
 
-fn parse_args() -> Args {
-    let mut sizes = Vec::new();
-    let mut steps = DEFAULT_STEPS;
-    let mut touching = false;
-    let mut it = std::env::args().skip(1);
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            // cargo passes `--bench` to harness = false benches.
-            "--bench" => {}
-            "--touching" => touching = true,
-            "--steps" => {
-                let v = it.next().expect("--steps needs a value");
-                steps = v.parse().expect("--steps: not a number");
-            }
-            s if s.starts_with("--steps=") => {
-                steps = s["--steps=".len()..]
-                    .parse()
-                    .expect("--steps: not a number");
-            }
-            s if s.starts_with('-') => eprintln!("overhead: ignoring option {s}"),
-            s => match s.parse::<usize>() {
-                Ok(n) if n > 0 => sizes.push(n),
-                _ => eprintln!("overhead: ignoring argument {s:?} (expected a pile size)"),
-            },
-        }
-    }
-    if sizes.is_empty() {
-        sizes = DEFAULT_SIZES.to_vec();
-    }
-    assert!(steps > 0, "--steps must be positive");
-    Args {
-        sizes,
-        steps,
-        touching,
-    }
-}
-
-/// Per-step timings in seconds.
+/// Per-step thread CPU times, in seconds.
 #[derive(Default)]
 struct Samples {
     plain: Vec<f64>,
     rapier: Vec<f64>,
-    analysis: Vec<f64>,
+    layer: Vec<f64>,
 }
 
-struct Outcome {
-    n: usize,
-    steps: usize,
-    samples: Samples,
+/// One run's figures.
+struct Run {
+    /// Layered / plain over the whole run and over the tail.
+    whole: f64,
+    settled: f64,
+    /// The layer's own work / Rapier's step in the layered world (sums).
+    share_whole: f64,
+    share_settled: f64,
     identical: bool,
-    bodies: usize,
+    touching_at_end: bool,
     awake_plain: usize,
     awake_layered: usize,
-    nodes: usize,
     edges: usize,
-    touching: usize,
-    groups: usize,
-    wall: f64,
+    events: u64,
 }
 
-fn plain_step(world: &mut PhysicsWorld) -> f64 {
-    let t0 = Instant::now();
-    world.step();
-    t0.elapsed().as_secs_f64()
-}
-
-fn layered_step(world: &mut PhysicsWorld, layer: &mut ContactLayer) -> (f64, f64) {
-    if layer.touching_in_effect() {
-        // Touching tracking: the pre-step flags new colliders, Rapier's step reports
-        // touch transitions to the layer's event handler.
-        let t0 = Instant::now();
-        layer.pre_step((&mut *world).into());
-        let t1 = Instant::now();
-        world.step_with_events(&layer.hooks(), layer.event_handler());
-        let t2 = Instant::now();
-        let stats = layer.analyze(WorldView::from(&*world));
-        let t3 = Instant::now();
-        black_box(stats);
-        return (
-            (t2 - t1).as_secs_f64(),
-            (t1 - t0).as_secs_f64() + (t3 - t2).as_secs_f64(),
-        );
+fn build(scene: SceneArg, n: usize) -> PhysicsWorld {
+    match scene {
+        SceneArg::Spheres => scenes::sphere_pile(n, SEED).world,
+        SceneArg::Mixed => scenes::mixed_pile(n, SEED).world,
     }
-    let t0 = Instant::now();
-    world.step();
-    let t1 = Instant::now();
-    let stats = layer.analyze(WorldView::from(&*world));
-    let t2 = Instant::now();
-    black_box(stats);
-    ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64())
+}
+
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t0 = ThreadTime::now();
+    let out = f();
+    (out, t0.elapsed().as_secs_f64())
+}
+
+/// `ContactLayer::step`, with Rapier's part and the layer's timed apart; the
+/// receivers drained as a user would.
+fn layered_step(
+    world: &mut PhysicsWorld,
+    layer: &mut ContactLayer,
+    receivers: &[Receiver<Event>],
+    events: &mut u64,
+) -> (f64, f64) {
+    let ((), pre) = timed(|| layer.pre_step(WorldMut::from(&mut *world)));
+    let ((), rapier) = timed(|| world.step_with_events(&layer.hooks(), layer.event_handler()));
+    let ((), analysis) = timed(|| {
+        black_box(layer.analyze(WorldView::from(&*world)));
+        for r in receivers {
+            for e in r.try_iter() {
+                black_box(e);
+                *events += 1;
+            }
+        }
+    });
+    (rapier, pre + analysis)
 }
 
 /// Poses and velocities of every body, compared bit for bit, in handle order.
 fn bit_identical(a: &PhysicsWorld, b: &PhysicsWorld) -> bool {
     fn bits(w: &PhysicsWorld) -> Vec<u32> {
-        let mut out = Vec::with_capacity(w.bodies.len() * 13);
+        let mut out = Vec::with_capacity(w.bodies.len() * 15);
         for (h, rb) in w.bodies.iter() {
             let (i, g) = h.into_raw_parts();
             out.extend([i, g]);
             let p = rb.position();
-            let v = rb.linvel();
-            let av = rb.angvel();
+            let (v, av) = (rb.linvel(), rb.angvel());
+            let r = p.rotation;
+            let t = p.translation;
             for x in [
-                p.translation.x,
-                p.translation.y,
-                p.translation.z,
-                p.rotation.x,
-                p.rotation.y,
-                p.rotation.z,
-                p.rotation.w,
-                v.x,
-                v.y,
-                v.z,
-                av.x,
-                av.y,
-                av.z,
+                t.x, t.y, t.z, r.x, r.y, r.z, r.w, v.x, v.y, v.z, av.x, av.y, av.z,
             ] {
                 out.push(x.to_bits());
             }
@@ -171,242 +179,129 @@ fn bit_identical(a: &PhysicsWorld, b: &PhysicsWorld) -> bool {
     bits(a) == bits(b)
 }
 
-fn run(n: usize, steps: usize, touching: bool) -> Outcome {
-    let wall0 = Instant::now();
-    let mut plain = scenes::sphere_pile(n, SEED).world;
-    let mut layered = scenes::sphere_pile(n, SEED).world;
+fn run(scene: SceneArg, n: usize, args: &Args) -> Run {
+    let mut plain = build(scene, n);
+    let mut layered = build(scene, n);
     let mut layer = ContactLayer::new();
-    if touching {
-        layer.set_tracking(rapier_contact_graph::coherence::Tracking::Touching);
+    if args.tracking == TrackingArg::Proximity {
+        layer.set_tracking(Tracking::Proximity);
     }
-    let mut s = Samples {
-        plain: Vec::with_capacity(steps),
-        rapier: Vec::with_capacity(steps),
-        analysis: Vec::with_capacity(steps),
+    let receivers: Vec<Receiver<Event>> = match args.events {
+        EventsArg::None => Vec::new(),
+        EventsArg::All => vec![layer.subscribe(Filter::all())],
+        EventsArg::Contact => vec![layer.subscribe(Filter::kinds(KindSet::of(&[
+            EventKind::TouchBegin,
+            EventKind::TouchEnd,
+            EventKind::TriggerEnter,
+            EventKind::TriggerExit,
+        ])))],
     };
-    for i in 0..steps {
-        let (tp, (tr, ta)) = if i % 2 == 0 {
-            let tp = plain_step(&mut plain);
-            (tp, layered_step(&mut layered, &mut layer))
+    let mut s = Samples::default();
+    let mut events = 0;
+    for i in 0..args.steps {
+        let (tp, (tr, tl)) = if i % 2 == 0 {
+            let tp = timed(|| plain.step()).1;
+            (
+                tp,
+                layered_step(&mut layered, &mut layer, &receivers, &mut events),
+            )
         } else {
-            let tl = layered_step(&mut layered, &mut layer);
-            (plain_step(&mut plain), tl)
+            let tl = layered_step(&mut layered, &mut layer, &receivers, &mut events);
+            (timed(|| plain.step()).1, tl)
         };
         s.plain.push(tp);
         s.rapier.push(tr);
-        s.analysis.push(ta);
+        s.layer.push(tl);
     }
-    let stats = layer.stats();
-    let touching = layer
-        .graph()
-        .edges()
-        .filter(|(_, e)| e.cache().touching)
-        .count();
-    Outcome {
-        n,
-        steps,
+    let sum = |v: &[f64], r: std::ops::Range<usize>| v[r].iter().sum::<f64>();
+    let tail = args.steps - args.tail.min(args.steps)..args.steps;
+    let all = 0..args.steps;
+    let ratio = |r: std::ops::Range<usize>| {
+        (sum(&s.rapier, r.clone()) + sum(&s.layer, r.clone())) / sum(&s.plain, r)
+    };
+    let share = |r: std::ops::Range<usize>| sum(&s.layer, r.clone()) / sum(&s.rapier, r);
+    Run {
+        whole: ratio(all.clone()),
+        settled: ratio(tail.clone()),
+        share_whole: share(all),
+        share_settled: share(tail),
         identical: bit_identical(&plain, &layered),
-        bodies: layered.bodies.len(),
+        touching_at_end: layer.coherence().tracking() == Tracking::Touching,
         awake_plain: plain.islands.num_active_bodies(),
         awake_layered: layered.islands.num_active_bodies(),
-        nodes: stats.nodes,
-        edges: stats.edges,
-        touching,
-        groups: stats.groups.groups,
-        samples: s,
-        wall: wall0.elapsed().as_secs_f64(),
+        edges: layer.stats().edges,
+        events,
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
+/// "min / median / max" of `f` over the runs.
+fn spread(runs: &[Run], f: impl Fn(&Run) -> f64, fmt: impl Fn(f64) -> String) -> String {
+    let mut v: Vec<f64> = runs.iter().map(f).collect();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => "-".into(),
+        1 => fmt(v[0]),
+        n => format!("{} / {} / {}", fmt(v[0]), fmt(v[n / 2]), fmt(v[n - 1])),
     }
-    v.sort_by(|a, b| a.total_cmp(b));
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
-
-/// Figures over the steps `range` of one outcome.
-struct Phase {
-    steps: usize,
-    plain: f64,
-    rapier: f64,
-    analysis: f64,
-    /// Median over steps of analysis / Rapier (same step, same world).
-    median_analysis_ratio: f64,
-    /// Median over steps of layered / plain.
-    median_layered_ratio: f64,
-    max_analysis: f64,
-}
-
-impl Phase {
-    fn of(s: &Samples, range: std::ops::Range<usize>) -> Phase {
-        let sum = |v: &[f64]| v[range.clone()].iter().sum::<f64>();
-        let idx = range.clone();
-        Phase {
-            steps: range.len(),
-            plain: sum(&s.plain),
-            rapier: sum(&s.rapier),
-            analysis: sum(&s.analysis),
-            median_analysis_ratio: median(
-                idx.clone().map(|i| s.analysis[i] / s.rapier[i]).collect(),
-            ),
-            median_layered_ratio: median(
-                idx.clone()
-                    .map(|i| (s.rapier[i] + s.analysis[i]) / s.plain[i])
-                    .collect(),
-            ),
-            max_analysis: idx.map(|i| s.analysis[i]).fold(0.0, f64::max),
-        }
-    }
-    fn layered(&self) -> f64 {
-        self.rapier + self.analysis
-    }
-}
-
-fn ms(x: f64) -> String {
-    format!("{:.1} ms", x * 1e3)
-}
-fn pct(x: f64) -> String {
-    format!("{:.2} %", x * 100.0)
-}
-fn ratio(x: f64) -> String {
-    format!("{x:.4}")
-}
-
-fn print_table(outcomes: &[Outcome]) {
-    let phases: Vec<(Phase, Phase)> = outcomes
-        .iter()
-        .map(|o| {
-            let steps = o.steps;
-            let tail = TAIL.min(steps);
-            (
-                Phase::of(&o.samples, 0..steps),
-                Phase::of(&o.samples, steps - tail..steps),
-            )
-        })
-        .collect();
-    let mut rows: Vec<(String, Vec<String>)> = Vec::new();
-    let mut row = |name: &str, f: &dyn Fn(&Outcome, &Phase, &Phase) -> String| {
-        let cells = outcomes
-            .iter()
-            .zip(&phases)
-            .map(|(o, (all, tail))| f(o, all, tail))
-            .collect();
-        rows.push((name.to_string(), cells));
-    };
-    row("spheres", &|o, _, _| o.n.to_string());
-    row("steps", &|o, _, _| o.steps.to_string());
-    row("ALL STEPS", &|_, _, _| String::new());
-    row("  plain total", &|_, a, _| ms(a.plain));
-    row("  layered total (rapier+analysis)", &|_, a, _| {
-        ms(a.layered())
-    });
-    row("    rapier part", &|_, a, _| ms(a.rapier));
-    row("    analysis part", &|_, a, _| ms(a.analysis));
-    row("  layered / plain", &|_, a, _| ratio(a.layered() / a.plain));
-    row("  rapier(layered) / plain", &|_, a, _| {
-        ratio(a.rapier / a.plain)
-    });
-    row("  analysis / rapier (sums)", &|_, a, _| {
-        pct(a.analysis / a.rapier)
-    });
-    row("  analysis / rapier (median/step)", &|_, a, _| {
-        pct(a.median_analysis_ratio)
-    });
-    row("  layered / plain (median/step)", &|_, a, _| {
-        ratio(a.median_layered_ratio)
-    });
-    row("  analysis per step (mean)", &|_, a, _| {
-        format!("{:.3} ms", a.analysis / a.steps as f64 * 1e3)
-    });
-    row("  analysis per step (max)", &|_, a, _| {
-        format!("{:.3} ms", a.max_analysis * 1e3)
-    });
-    row("  rapier per step (mean)", &|_, a, _| {
-        format!("{:.2} ms", a.rapier / a.steps as f64 * 1e3)
-    });
-    row("LAST STEPS (settled phase)", &|_, _, t| {
-        format!("last {}", t.steps)
-    });
-    row("  plain total", &|_, _, t| ms(t.plain));
-    row("  layered total", &|_, _, t| ms(t.layered()));
-    row("  layered / plain", &|_, _, t| ratio(t.layered() / t.plain));
-    row("  analysis / rapier (sums)", &|_, _, t| {
-        pct(t.analysis / t.rapier)
-    });
-    row("  analysis / rapier (median/step)", &|_, _, t| {
-        pct(t.median_analysis_ratio)
-    });
-    row("  layered / plain (median/step)", &|_, _, t| {
-        ratio(t.median_layered_ratio)
-    });
-    row("  analysis per step (mean)", &|_, _, t| {
-        format!("{:.3} ms", t.analysis / t.steps as f64 * 1e3)
-    });
-    row("AT THE END", &|_, _, _| String::new());
-    row("  bodies (incl. container)", &|o, _, _| {
-        o.bodies.to_string()
-    });
-    row("  awake bodies plain / layered", &|o, _, _| {
-        format!("{} / {}", o.awake_plain, o.awake_layered)
-    });
-    row("  graph nodes", &|o, _, _| o.nodes.to_string());
-    row("  graph edges (touching)", &|o, _, _| {
-        format!("{} ({})", o.edges, o.touching)
-    });
-    row("  contact groups", &|o, _, _| o.groups.to_string());
-    row("  identical", &|o, _, _| {
-        if o.identical { "yes" } else { "NO" }.to_string()
-    });
-    row("  wall time of the run", &|o, _, _| {
-        format!("{:.1} s", o.wall)
-    });
-
-    let w0 = rows.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
-    let wc = rows
-        .iter()
-        .flat_map(|(_, c)| c.iter().map(|s| s.chars().count()))
-        .max()
-        .unwrap_or(0)
-        .max(8);
-    println!();
-    println!("contact-graph layer overhead (sphere_pile(N, {SEED}), dt = 0.01)");
-    println!("{}", "-".repeat(w0 + (wc + 3) * outcomes.len()));
-    for (name, cells) in &rows {
-        print!("{name:<w0$}");
-        for c in cells {
-            print!(" | {c:>wc$}");
-        }
-        println!();
-    }
-    println!("{}", "-".repeat(w0 + (wc + 3) * outcomes.len()));
-    println!("target (docs/ARCHITECTURE.md §6): analysis / rapier <= 3.00 % at N = 5000, identical = yes");
 }
 
 fn main() {
-    let args = parse_args();
+    let args = Args::parse();
     if cfg!(debug_assertions) {
         eprintln!("overhead: warning, debug assertions are on; use `cargo bench`");
     }
-    let mut outcomes = Vec::new();
-    for &n in &args.sizes {
-        eprintln!("overhead: N = {n}, {} steps ...", args.steps);
-        let o = run(n, args.steps, args.touching);
-        eprintln!(
-            "overhead: N = {n} done in {:.1} s (identical: {})",
-            o.wall,
-            if o.identical { "yes" } else { "no" }
-        );
-        outcomes.push(o);
+    if args.repeats == 0 || args.steps == 0 {
+        eprintln!("overhead: --repeats and --steps must be at least 1");
+        std::process::exit(2);
     }
-    print_table(&outcomes);
-    if outcomes.iter().any(|o| !o.identical) {
+    println!(
+        "observe-only layer / plain Rapier, {} steps (settled: last {}), events {:?}, \
+         tracking asked {:?}, {} run(s) each (min / median / max), thread CPU time",
+        args.steps,
+        args.tail.min(args.steps),
+        args.events,
+        args.tracking,
+        args.repeats
+    );
+    println!(
+        "| scene | N | tracking at end | layered / plain, whole run | layered / plain, settled \
+         | layer / Rapier, whole | layer / Rapier, settled | awake plain · layered | edges | events | trajectories |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut differ = false;
+    for &scene in &args.scenes {
+        for &n in &args.sizes {
+            let runs: Vec<Run> = (0..args.repeats)
+                .map(|k| {
+                    eprintln!("overhead: {scene:?} N = {n}, run {} ...", k + 1);
+                    run(scene, n, &args)
+                })
+                .collect();
+            let r = |x: f64| format!("{x:.3}");
+            let p = |x: f64| format!("{:.1} %", 100.0 * x);
+            let last = &runs[runs.len() - 1];
+            let identical = runs.iter().all(|r| r.identical);
+            differ |= !identical;
+            println!(
+                "| {scene:?} | {n} | {} | {} | {} | {} | {} | {} · {} | {} | {} | {} |",
+                if last.touching_at_end {
+                    "touching"
+                } else {
+                    "proximity"
+                },
+                spread(&runs, |x| x.whole, r),
+                spread(&runs, |x| x.settled, r),
+                spread(&runs, |x| x.share_whole, p),
+                spread(&runs, |x| x.share_settled, p),
+                last.awake_plain,
+                last.awake_layered,
+                last.edges,
+                last.events,
+                if identical { "bit-identical" } else { "DIFFER" },
+            );
+        }
+    }
+    if differ {
         eprintln!("overhead: trajectories differ between the plain and the layered run");
         std::process::exit(1);
     }

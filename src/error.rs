@@ -65,6 +65,12 @@ pub enum Error {
         /// Why Rapier cannot carry it out.
         reason: &'static str,
     },
+    /// The query reads the per-edge contact details, which the layer keeps only under
+    /// proximity tracking with the details on (touching tracking, the default, copies
+    /// none): ask the by-handle query that reads them from Rapier
+    /// (`ContactLayer::supports_of_body`, `ContactLayer::contact_details`), or set
+    /// `Tracking::Proximity`.
+    DetailsNotKept,
 }
 
 impl fmt::Display for Error {
@@ -98,6 +104,12 @@ impl fmt::Display for Error {
                  `restore_with` and give its predicate back"
             ),
             Error::Unsupported { what, reason } => write!(f, "{what} is not supported: {reason}"),
+            Error::DetailsNotKept => write!(
+                f,
+                "the layer keeps no per-edge contact details (touching tracking or details \
+                 off): use `supports_of_body` / `contact_details`, which read Rapier, or \
+                 `set_tracking(Tracking::Proximity)`"
+            ),
         }
     }
 }

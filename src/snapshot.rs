@@ -162,8 +162,10 @@ use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 
 /// The snapshot format this build writes and reads. Bumped by any change of the
 /// layer's state that older builds could not read.
-/// Format 2 leaves out the analysis' lookup caches (collider owners, pair slots).
-pub const SNAPSHOT_FORMAT: u32 = 2;
+/// Format 2 leaves out the analysis' lookup caches (collider owners, pair slots);
+/// format 3 adds whether the layer's event handler reached the last step (touching
+/// tracking as the default).
+pub const SNAPSHOT_FORMAT: u32 = 3;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");

@@ -176,7 +176,7 @@ fn graph_neighbors_and_touching_with_bad_ids() {
 
 #[test]
 fn graph_try_is_supported_with_bad_input() {
-    let (mut world, _, ball, mut layer) = stepped(30);
+    let (mut world, _, ball, mut layer) = stepped_proximity(30);
     let (stale, _) = stale_node(&mut layer, &mut world);
     let g = layer.graph();
     let b = g.node_of_body(ball).unwrap();
@@ -206,7 +206,7 @@ fn graph_try_is_supported_with_bad_input() {
 #[test]
 // Fixed: the bug this test was written for (see the audit table).
 fn bug_try_is_supported_non_finite_input_is_not_an_error() {
-    let (_, _, ball, layer) = stepped(30);
+    let (_, _, ball, layer) = stepped_proximity(30);
     let g = layer.graph();
     let b = g.node_of_body(ball).unwrap();
     let down = Vector::new(0.0, -9.81, 0.0);
@@ -226,7 +226,7 @@ fn bug_try_is_supported_non_finite_input_is_not_an_error() {
 #[test]
 // Fixed: the bug this test was written for (see the audit table).
 fn bug_try_is_supported_huge_or_tiny_gravity() {
-    let (_, _, ball, layer) = stepped(30);
+    let (_, _, ball, layer) = stepped_proximity(30);
     let g = layer.graph();
     let b = g.node_of_body(ball).unwrap();
     for y in [-1e20, -1e-23] {
@@ -240,7 +240,7 @@ fn bug_try_is_supported_huge_or_tiny_gravity() {
 
 #[test]
 fn graph_supports_of_with_bad_input() {
-    let (mut world, _, ball, mut layer) = stepped(30);
+    let (mut world, _, ball, mut layer) = stepped_proximity(30);
     let (stale, _) = stale_node(&mut layer, &mut world);
     let g = layer.graph();
     let b = g.node_of_body(ball).unwrap();

@@ -13,7 +13,7 @@ use common::build::*;
 
 #[test]
 fn layer_node_queries_with_bad_ids() {
-    let (mut world, _, ball, mut layer) = stepped(2);
+    let (mut world, _, ball, mut layer) = stepped_proximity(2);
     let (stale, removed) = stale_node(&mut layer, &mut world);
     assert_eq!(
         layer.node_of_body(removed),

@@ -113,17 +113,20 @@ fn settings_at_any_time() {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
-    // Contact details off from the start: support has no normals to go by and says
-    // "not supported" (documented on set_contact_details; no error).
+    // Contact details off from the start: support has no normals to go by, which the
+    // node query says (documented on set_contact_details); the by-handle query reads
+    // Rapier's.
     let (mut world, _, _) = ball_on_ground();
-    let mut layer = ContactLayer::new();
+    let mut layer =
+        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
     layer.set_contact_details(false);
     for _ in 0..30 {
         layer.step(&mut world);
     }
     let n = layer.node_of_body(ball).unwrap();
     assert_eq!(layer.graph().touching(n).count(), 1);
-    assert_eq!(layer.is_supported(n), Ok(false));
+    assert_eq!(layer.is_supported(n), Err(Error::DetailsNotKept));
+    assert_eq!(layer.supports_of_body(&world, ball, 0.0).unwrap().len(), 1);
 }
 
 #[test]

@@ -3,7 +3,7 @@
 mod common;
 
 use rapier3d::prelude::*;
-use rapier_contact_graph::coherence::OBSOLETE_EVERY;
+use rapier_contact_graph::coherence::{Tracking, OBSOLETE_EVERY};
 use rapier_contact_graph::{ContactLayer, EdgeKind, Transition};
 
 /// A dynamic ball flying past a fixed ball without gravity: it approaches, touches,
@@ -29,7 +29,8 @@ fn fly_by() -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle) {
 #[test]
 fn a_fly_by_goes_through_every_mark_in_order_and_the_edge_goes_when_obsolete() {
     let (mut world, fixed, ball) = fly_by();
-    let mut layer = ContactLayer::new();
+    // The proximity marks (paper §3.2) need every pair read: proximity tracking.
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut prox_log = Vec::new();
     let mut touch_log = Vec::new();
     let mut removed_at = None;

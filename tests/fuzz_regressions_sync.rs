@@ -59,7 +59,9 @@ fn fixed_a_fixed_body_moved_next_to_a_sleeping_body_is_paired_after_a_full_sync(
     let (mut world, _) = world_with_ground();
     let (ball, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
     let (post, _) = fixed_box_at(&mut world, [4.0, 1.0, 0.0], 0.5);
-    let mut layer = ContactLayer::new();
+    // A proximity edge (the pair does not touch): proximity tracking.
+    let mut layer =
+        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
     for _ in 0..200 {
         layer.step(&mut world);
     }

@@ -10,6 +10,7 @@
 mod detectors;
 
 use rapier3d::prelude::*;
+use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{Monitor, MonitorConfig, ViolationKind};
 use rapier_contact_graph::{ContactLayer, Error, WorldView};
 use rcg_scenes::{self as scenes};
@@ -110,7 +111,7 @@ fn hanging_sleeper_detects_a_held_body_left_in_the_air() {
         r,
         0.0,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let held = move |h: RigidBodyHandle| h == upper;
 
@@ -206,7 +207,7 @@ fn hanging_sleeper_detects_a_body_asleep_in_the_air() {
         0.5,
         0.0,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let due = expected_hang_check(0.1, DT);
     let mut first = None;
@@ -243,7 +244,7 @@ fn hanging_sleeper_quiet_when_supported_on_a_slope_or_asleep_in_a_pile() {
             .pose(Pose::from_parts(on_slope, Rotation::from_rotation_z(tilt))),
         ColliderBuilder::cuboid(0.25, 0.25, 0.25),
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     for s in 0..200 {
         let held = |h: RigidBodyHandle| s >= 20 && h == b;
@@ -327,7 +328,7 @@ fn violations_are_sorted_and_repeat_checks_add_no_time() {
             .sleeping(true);
         sleepers.push(ball(&mut world, body, 0.5, 0.0));
     }
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let due = expected_hang_check(0.1, DT);
     for check in 1..=due {
@@ -368,7 +369,7 @@ fn hanging_sleeper_without_contact_details_counts_any_touch_as_support() {
         r,
         0.0,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     layer.set_contact_details(false);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let held = move |h: RigidBodyHandle| h == grounded;

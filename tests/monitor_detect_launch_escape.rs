@@ -7,6 +7,7 @@
 mod detectors;
 
 use rapier3d::prelude::*;
+use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{Monitor, MonitorConfig, ViolationKind};
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_scenes::{self as scenes};
@@ -36,7 +37,7 @@ fn launch_detects_stiff_position_correction_throwing_overlapping_boxes() {
     let mut world = world_with_ground();
     stiff(&mut world);
     let (a, b) = overlapping_boxes(&mut world);
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     monitor.prime(&WorldView::from(&world));
     let found = step(&mut world, &mut layer, &mut monitor, &no_one, &no_one);
@@ -65,7 +66,7 @@ fn launch_detects_stiff_position_correction_throwing_overlapping_boxes() {
     let mut world = world_with_ground();
     stiff(&mut world);
     overlapping_boxes(&mut world);
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     for _ in 0..20 {
         step(&mut world, &mut layer, &mut monitor, &no_one, &no_one);
@@ -76,7 +77,7 @@ fn launch_detects_stiff_position_correction_throwing_overlapping_boxes() {
     // deep penetration).
     let mut world = world_with_ground();
     overlapping_boxes(&mut world);
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     monitor.prime(&WorldView::from(&world));
     for _ in 0..40 {
@@ -98,7 +99,7 @@ fn launch_detects_release_of_a_mass_fixation_and_honours_exceptions() {
     let run = |except_box: bool| {
         let mut scene = scenes::ball_on_box();
         let cube = scene.body("box").unwrap();
-        let mut layer = ContactLayer::new();
+        let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
         let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
         let mut launches = Vec::new();
         for s in 0..260u64 {
@@ -152,7 +153,7 @@ fn launch_sees_undeclared_pushes_but_not_released_holds_or_scripted_bodies() {
         r,
         0.0,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     for _ in 0..10 {
         step(&mut world, &mut layer, &mut monitor, &no_one, &no_one);
@@ -171,7 +172,7 @@ fn launch_sees_undeclared_pushes_but_not_released_holds_or_scripted_bodies() {
         r,
         0.0,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     for s in 0..30 {
         let held = |h: RigidBodyHandle| (10..20).contains(&s) && h == b;
@@ -196,7 +197,7 @@ fn launch_sees_undeclared_pushes_but_not_released_holds_or_scripted_bodies() {
             .linvel(Vector::new(8.0, 0.0, 0.0)),
         ColliderBuilder::cuboid(0.25, 0.25, 0.25),
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     monitor.prime(&WorldView::from(&world));
     let mut top_ke: Real = 0.0;
@@ -221,7 +222,7 @@ fn launch_sees_undeclared_pushes_but_not_released_holds_or_scripted_bodies() {
 fn deep_penetration_detects_each_episode_once() {
     let mut world = world_with_ground();
     let (a, b) = overlapping_boxes(&mut world);
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let found = step(&mut world, &mut layer, &mut monitor, &no_one, &no_one);
     assert_eq!(found.len(), 1, "{found:?}");
@@ -257,7 +258,7 @@ fn deep_penetration_detects_each_episode_once() {
 fn escape_detects_non_finite_poses_and_velocities() {
     let mut scene = scenes::ball_on_box();
     let ball = scene.body("ball").unwrap();
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     for _ in 0..20 {
         step(&mut scene.world, &mut layer, &mut monitor, &no_one, &no_one);
@@ -318,7 +319,7 @@ fn escape_inside_a_step_needs_the_quarantine_list() {
     let run = |with_quarantine: bool| {
         let mut scene = scenes::ball_on_box();
         let ball = scene.body("ball").unwrap();
-        let mut layer = ContactLayer::new();
+        let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
         let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
         let mut found = Vec::new();
         for s in 0..30 {

@@ -252,9 +252,8 @@ fn contact_details_on_demand_equal_the_per_step_copy_under_both_trackings() {
     use rapier_contact_graph::coherence::Tracking;
     let (mut w1, balls, _, ledge) = scene();
     let (mut w2, _, _, _) = scene();
-    let mut proximity = ContactLayer::new();
+    let mut proximity = ContactLayer::with_tracking(Tracking::Proximity);
     let mut touching = ContactLayer::new();
-    touching.set_tracking(Tracking::Touching);
     let mut compared = 0;
     for _ in 0..150 {
         proximity.step(&mut w1);

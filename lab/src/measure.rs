@@ -307,7 +307,11 @@ pub fn run(
             reason: "must be at least 1".into(),
         });
     }
-    let mut layer = ContactLayer::new();
+    // The standalone monitor below reads the layer's per-edge details (support
+    // normals, penetration depths): proximity tracking (the speed-ups and the layer's
+    // own monitor would switch to it anyway).
+    let mut layer =
+        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
     match &spec.mode {
         Mode::Stock => {}
         Mode::Plain { iterations } => {

@@ -24,6 +24,7 @@ use rapier3d::prelude::RigidBodyHandle;
 use rapier_contact_graph::monitor::{
     Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
 };
+use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_lab::measure::{deviation, Mode, RunSpec, Trajectory, Violations};
 use rcg_lab::stability::{self, Expectation, Failure, Outcome, StabilityCase, Target};
@@ -38,7 +39,8 @@ fn run(
 ) -> (Outcome, Trajectory) {
     let mut scene = (case.build)();
     let bodies = case.measured_bodies(&scene);
-    let mut layer = ContactLayer::new();
+    // A standalone monitor reads the layer's per-edge details: proximity tracking.
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     match &spec.mode {
         Mode::Stock => {}
         Mode::Layer(s) => layer.set_speedups(Some(s.clone())).unwrap(),

@@ -43,7 +43,7 @@ pub use box_pile::box_pile;
 pub use diku::{diku, DikuParams};
 pub use kinematic_platform::kinematic_platform;
 pub use pendulum::pendulum_wall;
-pub use pile::sphere_pile;
+pub use pile::{mixed_pile, sphere_pile};
 pub use sphere_stack::sphere_stack;
 pub use toppling_stack::toppling_stack;
 pub use trigger_ledge::trigger_ledge;

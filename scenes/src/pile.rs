@@ -71,6 +71,35 @@ fn drop_grid(n: usize) -> (usize, Real, usize) {
 /// carrying the floor and the four walls); the spheres are all the other bodies of
 /// `scene.world.bodies`, inserted layer by layer from the bottom.
 pub fn sphere_pile(n: usize, seed: u64) -> Scene {
+    pile(n, seed, "sphere_pile", |_| ColliderBuilder::ball(RADIUS))
+}
+
+/// Half extent of the boxes of [`mixed_pile`]: their faces are as far from their
+/// centre as a sphere's surface less 0.1 m, so that the drop grid's gaps hold.
+pub const MIXED_BOX_HALF: Real = 0.4;
+
+/// The pile of [`sphere_pile`] with every second body a box: balls (radius
+/// [`RADIUS`]) and axis-aligned cubes (half extent [`MIXED_BOX_HALF`]) alternate in
+/// insertion order, dropped from the same grid. Boxes rest on faces and stack, balls
+/// roll into the gaps: a pile with both Rapier's ball and box manifolds, part of which
+/// Rapier can put to sleep. Bodies as in [`sphere_pile`].
+pub fn mixed_pile(n: usize, seed: u64) -> Scene {
+    pile(n, seed, "mixed_pile", |i| {
+        if i % 2 == 0 {
+            ColliderBuilder::ball(RADIUS)
+        } else {
+            ColliderBuilder::cuboid(MIXED_BOX_HALF, MIXED_BOX_HALF, MIXED_BOX_HALF)
+        }
+    })
+}
+
+/// The container and `n` bodies from the drop grid, the `i`-th with `shape(i)`.
+fn pile(
+    n: usize,
+    seed: u64,
+    name: &'static str,
+    shape: impl Fn(usize) -> ColliderBuilder,
+) -> Scene {
     let mut world = new_world();
     let h = inner_half_width(n);
     let t = WALL_HALF_THICKNESS;
@@ -117,12 +146,12 @@ pub fn sphere_pile(n: usize, seed: u64) -> Scene {
         let y = DROP_FIRST_Y + layer as Real * DROP_SPACING + rng.next();
         world.insert(
             RigidBodyBuilder::dynamic().translation(Vector::new(x, y, z)),
-            ColliderBuilder::ball(RADIUS),
+            shape(i),
         );
     }
 
     Scene {
-        name: "sphere_pile",
+        name,
         world,
         bodies: vec![("container", container)],
         script: None,
@@ -166,6 +195,43 @@ mod tests {
         assert!(top > 2.0 * 2.0 * RADIUS, "pile too flat, top = {top}");
         let mean_speed = speed_sum / n as Real;
         assert!(mean_speed < 0.05, "not settled, mean speed {mean_speed}");
+    }
+
+    #[test]
+    fn mixed_pile_alternates_balls_and_boxes_and_stays_in_the_container() {
+        let n = 200;
+        let mut scene = mixed_pile(n, 1);
+        let container = scene.body("container").unwrap();
+        let shapes: Vec<bool> = scene
+            .world
+            .bodies
+            .iter()
+            .filter(|(h, _)| *h != container)
+            .map(|(_, b)| {
+                scene.world.colliders[b.colliders()[0]]
+                    .shape()
+                    .as_ball()
+                    .is_some()
+            })
+            .collect();
+        assert_eq!(shapes.len(), n);
+        assert_eq!(shapes.iter().filter(|b| **b).count(), n / 2);
+        assert!(shapes.iter().step_by(2).all(|b| *b));
+        // The drop grid's gaps hold for boxes too (faces, axis-aligned).
+        let (_, spacing, _) = drop_grid(n);
+        assert!(spacing - 2.0 * JITTER - RADIUS - MIXED_BOX_HALF >= 0.1);
+        scene.run_plain(0, 500);
+        let h = inner_half_width(n);
+        for (handle, body) in scene.world.bodies.iter() {
+            if handle == container {
+                continue;
+            }
+            let p = body.translation();
+            assert!(
+                p.x.abs() < h && p.z.abs() < h && p.y > 0.0,
+                "body outside: {p:?}"
+            );
+        }
     }
 
     #[test]

@@ -189,9 +189,15 @@ pub struct Coherence {
     /// update.
     #[cfg_attr(feature = "serde", serde(default))]
     integrated: usize,
-    /// The tracking in effect at the last update (see [`Tracking`]).
+    /// The tracking in effect at the last update (see [`Tracking`]); `None` before
+    /// the first (so that touching tracking reads the touching pairs once when it
+    /// starts, whatever the default).
     #[cfg_attr(feature = "serde", serde(default))]
-    tracking: Tracking,
+    tracking: Option<Tracking>,
+    /// Whether the layer's event handler was given to Rapier's last analysed step
+    /// (see [`Tracking`]): touching tracking goes on only then.
+    #[cfg_attr(feature = "serde", serde(default))]
+    feed_connected: bool,
     /// The tracking the user asked for.
     #[cfg_attr(feature = "serde", serde(default))]
     tracking_requested: Tracking,

@@ -90,6 +90,14 @@ impl Coherence {
         !self.skip_details
     }
 
+    /// Whether the edges hold this step's contact details: the details are on and the
+    /// last update tracked proximity (touching tracking copies none; read them from
+    /// Rapier with `ContactLayer::contact_details`). What the graph's own support
+    /// queries and a standalone monitor read. O(1).
+    pub fn details_kept(&self) -> bool {
+        !self.skip_details && self.tracking() == super::Tracking::Proximity
+    }
+
     /// Turns the per-edge contact details on (the default) or off. Off, each collider
     /// pair costs only its proximity, touching state and contact count; the details
     /// keep their last values and support queries see no normals.

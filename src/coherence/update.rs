@@ -152,12 +152,13 @@ impl Coherence {
         } else {
             Tracking::Proximity
         };
-        let switched = tracking != self.tracking;
-        self.tracking = tracking;
-        if switched && tracking == Tracking::Proximity {
-            // Back to proximity: every pair is read again.
+        // The first update under touching tracking counts as a switch (its touching
+        // pairs sent no `Started`); back to proximity, every pair is read again.
+        let switched = self.tracking != Some(tracking);
+        if self.tracking == Some(Tracking::Touching) && tracking == Tracking::Proximity {
             self.force_full_sync = true;
         }
+        self.tracking = Some(tracking);
         let step = self.step;
         graph.clock = step;
         self.touched.clear();
@@ -175,8 +176,10 @@ impl Coherence {
         let counts_changed = self.known_bodies != Some(view.bodies.len())
             || self.known_colliders != view.colliders.len();
         // Another world with the same counts (one layer stepping two worlds) is read
-        // in full, as after `request_full_sync`.
-        if !self.same_world(view) && !counts_changed {
+        // in full, as after `request_full_sync`. Under touching tracking also with
+        // other counts: the other world's touching pairs sent no `Started` to the
+        // layer (proximity tracking reads the pairs of the resynchronised nodes).
+        if !self.same_world(view) && (!counts_changed || tracking == Tracking::Touching) {
             self.force_full_sync = true;
         }
         let requested = self.force_full_sync;
@@ -503,7 +506,7 @@ impl Coherence {
             // send (those of pairs touching before the layer flagged them), so they
             // are counted again. Proximity tracking reads the pairs of refreshed
             // bodies anyway.
-            let disabled = match (rb, self.tracking) {
+            let disabled = match (rb, self.tracking()) {
                 (Some(rb), Tracking::Touching) => nodes::disabled_sig(view, rb.colliders()),
                 _ => 0,
             };

@@ -585,7 +585,8 @@ mod tests {
                 .linvel(Vector::new(1.0, 0.0, 0.0)),
             ColliderBuilder::ball(0.5),
         );
-        let mut layer = ContactLayer::new();
+        // Proximity edges exist under proximity tracking only.
+        let mut layer = ContactLayer::with_tracking(crate::coherence::Tracking::Proximity);
         layer.step(&mut world);
         assert!(layer.graph().edge_of_bodies(a, b).unwrap().is_touching());
         let mut proximate = false;

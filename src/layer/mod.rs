@@ -71,9 +71,12 @@ pub struct StepStats {
 /// for _ in 0..60 {
 ///     layer.step(&mut world);
 /// }
+/// // Who touches the ball, and what holds it up, by Rapier handle.
+/// assert_eq!(layer.touching_body(&world.bodies, ball).unwrap().len(), 1);
+/// let supports = layer.supports_of_body(&world, ball, 0.0).unwrap();
+/// assert_eq!(supports.len(), 1, "the ball rests on the ground");
 /// let node = layer.graph().try_node_of_body(ball).unwrap();
 /// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Rigid);
-/// assert!(layer.is_supported(node).unwrap(), "the ball rests on the ground");
 /// layer.validate(&world).unwrap();
 /// ```
 ///
@@ -133,6 +136,11 @@ pub struct ContactLayer {
     touch_feed: crate::coherence::TouchFeed,
     /// Scratch: the drained touch transitions.
     touch_events: Vec<crate::coherence::TouchEvent>,
+    /// Set when the layer's event handler is handed out (or [`Self::step`] runs);
+    /// taken by the analysis: the feed reached Rapier's step (see
+    /// [`crate::coherence::Tracking`]). Atomic so that `event_handler(&self)` can set
+    /// it and the layer stays `Sync`.
+    feed_lent: std::sync::atomic::AtomicBool,
 }
 
 impl Default for ContactLayer {
@@ -142,7 +150,19 @@ impl Default for ContactLayer {
 }
 
 impl ContactLayer {
-    /// A layer with an empty graph; the first update fills it from the world.
+    /// A layer with an empty graph and the given tracking ([`Self::set_tracking`]):
+    /// `ContactLayer::with_tracking(Tracking::Proximity)` for a layer read by a
+    /// standalone [`Monitor`](crate::monitor::Monitor) or by the graph's detail queries,
+    /// which need every pair's details each step. O(1).
+    pub fn with_tracking(tracking: crate::coherence::Tracking) -> Self {
+        let mut layer = Self::new();
+        layer.set_tracking(tracking);
+        layer
+    }
+
+    /// A layer with an empty graph; the first update fills it from the world. It
+    /// tracks touching contacts from Rapier's events where it can (see
+    /// [`Tracking`](crate::coherence::Tracking)).
     pub fn new() -> Self {
         Self {
             graph: ContactGraph::default(),
@@ -161,6 +181,7 @@ impl ContactLayer {
             monitor_restore: None,
             touch_feed: Default::default(),
             touch_events: Vec::new(),
+            feed_lent: Default::default(),
         }
     }
 }
@@ -207,6 +228,7 @@ impl ContactLayer {
             monitor_restore: s.monitor_restore,
             touch_feed: Default::default(),
             touch_events: Vec::new(),
+            feed_lent: Default::default(),
         }
     }
 }

@@ -76,13 +76,15 @@ impl ContactLayer {
     }
 
     /// How the layer follows contacts (see [`Tracking`](crate::coherence::Tracking)):
-    /// [`Tracking::Proximity`](crate::coherence::Tracking::Proximity) (the default)
-    /// reads every pair of every awake body each step;
-    /// [`Tracking::Touching`](crate::coherence::Tracking::Touching) keeps touching
-    /// edges only and takes their beginnings and ends from Rapier's collision events,
-    /// at a cost proportional to the events, while nothing needs more: no subscription
-    /// to proximity or persist events, no speed-ups, no monitor. Otherwise the layer tracks proximity
-    /// meanwhile; each switch costs one full read of the pairs at the next update.
+    /// [`Tracking::Touching`](crate::coherence::Tracking::Touching) (the default)
+    /// keeps touching edges only and takes their beginnings and ends from Rapier's
+    /// collision events, at a cost proportional to the events, while nothing needs
+    /// more: no subscription to proximity or persist events, no speed-ups, no monitor,
+    /// and the layer's event handler reaches Rapier's step. Otherwise the layer tracks
+    /// proximity meanwhile; each switch costs one full read of the pairs at the next
+    /// update. [`Tracking::Proximity`](crate::coherence::Tracking::Proximity) reads
+    /// every pair of every awake body each step, always: proximity edges, per-step
+    /// contact details and persist events whether subscribed or not.
     ///
     /// With touching tracking, [`Self::step`] hands Rapier the layer's event handler;
     /// users who step Rapier themselves pass [`Self::event_handler`] (or
@@ -115,10 +117,18 @@ impl ContactLayer {
         self.coherence.request_tracking(tracking);
     }
 
-    /// Whether touching tracking is in effect for the next step: asked for, no
-    /// subscription to proximity or persist events, and neither the speed-ups nor
-    /// the monitor on. O(subscriptions).
+    /// Whether touching tracking is in effect for the next step: asked for (the
+    /// default), no subscription to proximity or persist events, neither the
+    /// speed-ups nor the monitor on, and the layer's event handler given to the last
+    /// analysed step (always so with [`Self::step`]; see
+    /// [`Tracking`](crate::coherence::Tracking)). O(subscriptions).
     pub fn touching_in_effect(&self) -> bool {
+        self.coherence.feed_connected() && self.touching_wanted()
+    }
+
+    /// Touching tracking asked for, and nothing that needs every pair read: no
+    /// subscription to proximity or persist events, no speed-ups, no monitor.
+    pub(crate) fn touching_wanted(&self) -> bool {
         self.coherence.requested_tracking() == crate::coherence::Tracking::Touching
             && self.speedups.is_none()
             && self.monitor.is_none()
@@ -128,9 +138,15 @@ impl ContactLayer {
                 .intersects(crate::events::KindSet::NEEDS_EVERY_PAIR)
     }
 
-    /// The layer's Rapier event handler, for users who step Rapier themselves with
-    /// touching tracking on: pass it to Rapier's step with [`Self::hooks`]. O(1).
+    /// The layer's Rapier event handler, for users who step Rapier themselves: pass it
+    /// to Rapier's step with [`Self::hooks`], every step. Calling it tells the layer
+    /// that its handler reaches Rapier's step, which lets touching tracking (the
+    /// default) go on from the next step (see
+    /// [`Tracking`](crate::coherence::Tracking)); a loop that never calls it is
+    /// tracked by proximity. O(1).
     pub fn event_handler(&self) -> &crate::coherence::TouchFeed {
+        self.feed_lent
+            .store(true, std::sync::atomic::Ordering::Relaxed);
         &self.touch_feed
     }
 
@@ -142,6 +158,8 @@ impl ContactLayer {
         &'a self,
         user: &'a H,
     ) -> crate::coherence::WithUser<'a, H> {
+        self.feed_lent
+            .store(true, std::sync::atomic::Ordering::Relaxed);
         crate::coherence::WithUser {
             feed: &self.touch_feed,
             flagged: self.coherence.touch_flagged(),
@@ -151,9 +169,12 @@ impl ContactLayer {
     }
 
     /// Turns the per-edge contact details on (the default) or off (closest distance,
-    /// contact count, deepest penetration, normal impulse). A scene that needs only the marks, the
-    /// touching state and the groups pays less per contact pair with them off.
-    /// Support queries need the details (the contact normals).
+    /// contact count, deepest penetration, normal impulse), under proximity tracking
+    /// (touching tracking copies none). A scene that needs only the marks, the
+    /// touching state and the groups pays less per contact pair with them off. The
+    /// node-based support query ([`Self::is_supported`]) needs them (the contact
+    /// normals) and says so when they are missing; [`Self::supports_of_body`] and
+    /// [`Self::contact_details`] read Rapier's and need neither.
     pub fn set_contact_details(&mut self, on: bool) {
         self.coherence.set_contact_details(on);
     }
@@ -201,8 +222,19 @@ impl ContactLayer {
     }
 
     /// Whether a node is supported against the gravity of the last analysed world
-    /// (see [`ContactGraph::try_is_supported`]; any upward push counts). O(degree).
+    /// (see [`ContactGraph::try_is_supported`]; any upward push counts), judged by the
+    /// contact normals the edges keep. O(degree).
+    ///
+    /// The edges keep normals only under proximity tracking with the contact details
+    /// on ([`Coherence::details_kept`](crate::coherence::Coherence::details_kept));
+    /// otherwise this is [`Error::DetailsNotKept`](crate::Error::DetailsNotKept):
+    /// [`Self::supports_of_body`] reads the normals from Rapier and answers under any
+    /// tracking.
     pub fn is_supported(&self, node: NodeId) -> Result<bool> {
+        self.graph.try_node(node)?;
+        if !self.coherence.details_kept() {
+            return Err(crate::Error::DetailsNotKept);
+        }
         self.graph.try_is_supported(node, self.gravity, 0.0)
     }
 

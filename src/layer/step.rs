@@ -21,8 +21,11 @@ impl ContactLayer {
     /// of a rebuilt group), plus O(bodies + colliders) on a step where their count
     /// changed.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
+        // This step hands Rapier the layer's event handler: touching tracking may
+        // start with it (see `Tracking`).
+        self.coherence.set_feed_connected(true);
         self.pre_step(WorldMut::from(&mut *world));
-        world.step_with_events(&self.hooks(), &self.touch_feed);
+        world.step_with_events(&self.hooks(), self.event_handler());
         self.analyze(WorldView::from(&*world))
     }
 
@@ -154,10 +157,18 @@ impl ContactLayer {
             Some(s) => self.coherence.set_parking(s.parking(), s.parked_now()),
             None => self.coherence.set_parking(std::iter::empty(), &[]),
         }
-        // Touching tracking: the transitions Rapier sent to the layer's event handler.
+        // Touching tracking: the transitions Rapier sent to the layer's event handler,
+        // if it was handed out for this step. If not, nothing says what changed: the
+        // update then tracks proximity, which reads everything once.
+        let lent = self
+            .feed_lent
+            .swap(false, std::sync::atomic::Ordering::Relaxed);
         let mut touch_events = std::mem::take(&mut self.touch_events);
         self.touch_feed.drain(&mut touch_events);
-        let touch = self.touching_in_effect().then_some(touch_events.as_slice());
+        // (A step whose pre-step set no flags is still tracked by touching when the
+        // feed reached it: the switch reads the touching pairs once.)
+        let touch = (lent && self.touching_wanted()).then_some(touch_events.as_slice());
+        self.coherence.set_feed_connected(lent);
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen, touch);
         self.touch_events = touch_events;

@@ -14,10 +14,15 @@
 //! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
 //! which it does when something touching it is removed — so it needs no look.
 //!
-//! Support is judged by the contact normals, which the layer keeps only with its
-//! contact details on (the default); with them off, any touching contact counts as
-//! support, so the detector never raises a false alarm but misses a body held against
-//! a wall.
+//! Support is judged by the contact normals, which the layer keeps only under
+//! proximity tracking with its contact details on; with the details off, any touching
+//! contact counts as support, so the detector never raises a false alarm but misses a
+//! body held against a wall. Under touching tracking (the layer's default without the
+//! speed-ups or its own monitor) nothing is judged: the graph has neither normals nor
+//! the resting contacts within [`SUPPORT_GAP`] (they send no `Started`). A layer read
+//! by a standalone monitor tracks proximity
+//! (`ContactLayer::with_tracking(Tracking::Proximity)`); the layer's own monitor
+//! ([`crate::ContactLayer::set_monitor`]) has it by itself.
 
 use std::collections::HashMap;
 
@@ -278,7 +283,11 @@ impl Hanging {
                 graph.touching(n).next().is_some()
             }
         };
-        if !is_held || supported() {
+        // Under touching tracking the graph has neither normals nor the resting
+        // contacts within the gap (they never send `Started`): support cannot be
+        // judged, and a false alarm is worse than none.
+        let judged = ctx.layer.coherence().tracking() == crate::coherence::Tracking::Proximity;
+        if !is_held || !judged || supported() {
             self.timed.remove(&h);
             return;
         }

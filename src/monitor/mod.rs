@@ -248,9 +248,18 @@ pub struct Peaks {
 
 /// The plausibility monitor: call [`Monitor::check`] once after each step's analysis.
 ///
+/// A standalone monitor reads the layer's per-edge contact details (normals for
+/// support, depths for penetration), which the layer keeps under proximity tracking:
+/// build the layer it reads with `ContactLayer::with_tracking(Tracking::Proximity)`.
+/// Under touching tracking the hanging and penetration detectors judge nothing (see
+/// their modules). The layer's own monitor
+/// ([`ContactLayer::set_monitor`](crate::ContactLayer::set_monitor)) switches the
+/// layer to proximity tracking by itself while it runs.
+///
 /// # Example
 /// ```
 /// use rapier3d::prelude::*;
+/// use rapier_contact_graph::coherence::Tracking;
 /// use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
 /// use rapier_contact_graph::{ContactLayer, WorldView};
 ///
@@ -260,7 +269,7 @@ pub struct Peaks {
 ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.5, 0.0)),
 ///     ColliderBuilder::ball(0.5),
 /// );
-/// let mut layer = ContactLayer::new();
+/// let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
 /// let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
 /// for _ in 0..100 {
 ///     layer.step(&mut world);

@@ -5,8 +5,9 @@
 //! smallest extent of the union of its non-sensor colliders' AABBs in its own frame
 //! (a static collider's: its shape's local AABB); it is cached per node and recomputed
 //! when the body's collider count changes (a shape replaced in place with `set_shape`
-//! is not noticed). Needs the layer's contact details (the default): without them the
-//! penetration is not maintained and nothing is checked.
+//! is not noticed). Needs the layer's contact details kept, which proximity tracking
+//! with the details on does (`Coherence::details_kept`): without them the penetration
+//! is not maintained and nothing is checked.
 
 use std::collections::{HashMap, HashSet};
 
@@ -109,7 +110,7 @@ impl Penetration {
             }
         }
         self.last_deepest = None;
-        if !layer.coherence().contact_details() {
+        if !layer.coherence().details_kept() {
             return;
         }
         for &eid in layer.coherence().touched_edges() {

@@ -35,8 +35,26 @@ pub fn ball_on_ground() -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle) {
 
 /// [`ball_on_ground`] stepped `n` times with a layer.
 pub fn stepped(n: usize) -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle, ContactLayer) {
+    stepped_with(n, ContactLayer::new())
+}
+
+/// [`stepped`] with a layer tracking proximity, whose edges keep the contact details
+/// (normals) that the graph's own support queries read.
+#[allow(dead_code)]
+pub fn stepped_proximity(
+    n: usize,
+) -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle, ContactLayer) {
+    stepped_with(
+        n,
+        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity),
+    )
+}
+
+fn stepped_with(
+    n: usize,
+    mut layer: ContactLayer,
+) -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle, ContactLayer) {
     let (mut world, ground, ball) = ball_on_ground();
-    let mut layer = ContactLayer::new();
     for _ in 0..n {
         layer.step(&mut world);
     }

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use rapier3d::prelude::*;
+use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{
     Monitor, MonitorConfig, Peaks, Violation, ViolationCounts, ViolationKind,
 };
@@ -69,7 +70,7 @@ pub fn step(
 /// Runs a scene (script included) for `steps` steps with a primed monitor, nobody held
 /// or excepted; returns every violation, the totals and the peaks.
 pub fn run_scene(scene: &mut Scene, steps: u64) -> (Vec<Violation>, ViolationCounts, Peaks) {
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     monitor.prime(&WorldView::from(&scene.world));
     let mut all = Vec::new();

@@ -88,8 +88,11 @@ impl Names {
 }
 
 /// Runs a scene and snapshots its state at the given (1-based, ascending) frames.
+/// The snapshots show the paper's whole graph, proximity edges and per-edge contact
+/// details included: the layer tracks proximity.
 pub fn snapshot_frames(mut scene: Scene, frames: &[u64]) -> Vec<(u64, String)> {
-    let mut layer = ContactLayer::new();
+    let mut layer =
+        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
     let mut names = Names::default();
     let mut out = Vec::new();
     let mut done = 0;

@@ -178,8 +178,10 @@ impl Harness {
         let view = WorldView::from(world);
         // The fresh layer tracks what the layer tracked at this step (touching
         // tracking holds touching pairs only, and counts collider pairs as contacts).
-        let mut fresh = ContactLayer::new();
-        fresh.set_tracking(layer.coherence().tracking());
+        let mut fresh = ContactLayer::with_tracking(layer.coherence().tracking());
+        // The feed "reached" this analysis (it had nothing to miss: the switch to
+        // touching tracking reads the touching pairs).
+        let _ = fresh.event_handler();
         fresh.analyze(view);
         fresh
             .validate_view(&view)

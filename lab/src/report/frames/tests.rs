@@ -521,6 +521,7 @@ fn rapiers_hsla_colours_become_rgba() {
 
 #[test]
 fn violating_bodies_lists_the_monitors_hanging_body_while_it_hangs() {
+    use rapier_contact_graph::coherence::Tracking;
     use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
     use rapier_contact_graph::{ContactLayer, WorldView};
     let mut world = PhysicsWorld::new();
@@ -531,7 +532,7 @@ fn violating_bodies_lists_the_monitors_hanging_body_while_it_hangs() {
     );
     let lower = ball(&mut world, Vector::new(0.0, 0.5, 0.0), 0.5);
     let upper = ball(&mut world, Vector::new(0.0, 1.5, 0.0), 0.5);
-    let mut layer = ContactLayer::new();
+    let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let held = move |h: RigidBodyHandle| h == upper;
     let no_one = |_: RigidBodyHandle| false;
