@@ -21,10 +21,10 @@
 mod common;
 
 use rapier3d::prelude::RigidBodyHandle;
+use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{
     Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
 };
-use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_lab::measure::{deviation, Mode, RunSpec, Trajectory, Violations};
 use rcg_lab::stability::{self, Expectation, Failure, Outcome, StabilityCase, Target};
