@@ -46,9 +46,10 @@
 //! [`sensor_contents`](ContactLayer::sensor_contents) (what is inside a sensor
 //! collider), [`sensors_containing`](ContactLayer::sensors_containing) (which sensors
 //! a body is in), and `TriggerEnter` / `TriggerExit` events naming the sensor's
-//! collider. The layer widens sensors' collision types so that a sensor on a fixed
-//! body sees fixed bodies too ([`ContactLayer::set_trigger_widening`] says what that
-//! changes, and how to switch it off).
+//! collider. Sensors see what Rapier's own sensor collision types give;
+//! [`ContactLayer::set_trigger_widening`] opts in to the paper's triggers, which see
+//! bodies of every type (a sensor on a fixed body sees fixed bodies too), and says
+//! what that changes.
 //!
 //! # Contact groups and sleeping piles
 //! Bodies that touch, directly or through others, form a contact group; fixed and

@@ -20,12 +20,20 @@ use rapier_contact_graph::{ContactLayer, EdgeKind, NodeKind, Rule};
 use common::build::*;
 
 /// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// A layer whose triggers see bodies of every type (`set_trigger_widening(true)`):
+/// what these regressions were found with (widening was the default then).
+fn widened_layer() -> ContactLayer {
+    let mut layer = ContactLayer::new();
+    layer.set_trigger_widening(true);
+    layer
+}
+
 #[test]
 fn fixed_a_rule_naming_a_trigger_keeps_validate() {
     let mut world = PhysicsWorld::new();
     let (ball, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.5));
     let sensor = world.insert_collider(ColliderBuilder::ball(1.0).sensor(true), None);
-    let mut layer = ContactLayer::new();
+    let mut layer = widened_layer();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     let trigger = layer.graph().node_of_sensor(sensor).unwrap();
@@ -52,7 +60,7 @@ fn fixed_a_rule_between_a_trigger_and_static_geometry_ends_their_edge() {
             .translation(Vector::new(0.0, 0.5, 0.0)),
         None,
     );
-    let mut layer = ContactLayer::new();
+    let mut layer = widened_layer();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     let t = layer.graph().node_of_sensor(sensor).unwrap();
@@ -90,7 +98,7 @@ fn fixed_a_rule_between_a_trigger_and_static_geometry_ends_their_edge() {
 fn fixed_a_sensor_added_to_a_rule_member_is_not_screened_by_the_rule() {
     let (mut world, floor) = world_with_ground();
     let (post, _) = fixed_box_at(&mut world, [0.0, 1.5, 0.0], 0.5);
-    let mut layer = ContactLayer::new();
+    let mut layer = widened_layer();
     layer.step(&mut world);
     let (f, p) = (
         layer.node_of_body(floor).unwrap(),
@@ -132,7 +140,7 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
             fixed_at([0.0, 5.0, 0.0]),
             ColliderBuilder::ball(0.6).sensor(true),
         );
-        let mut layer = ContactLayer::new();
+        let mut layer = widened_layer();
         let rx = layer.subscribe(Filter::kinds(KindSet::of(&[
             EventKind::TriggerEnter,
             EventKind::TriggerExit,
@@ -190,7 +198,7 @@ fn fixed_a_fixed_bodys_collider_removed_inside_a_trigger_ends_its_edge() {
                 .translation(Vector::new(0.0, 0.8, 0.0)),
             None,
         );
-        let mut layer = ContactLayer::new();
+        let mut layer = widened_layer();
         let rx = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TriggerExit])));
         layer.step(&mut world);
         layer.validate(&world).unwrap();
@@ -219,7 +227,7 @@ fn fixed_a_fixed_bodys_collider_removed_inside_a_trigger_ends_its_edge() {
 fn fixed_a_sensor_on_a_passive_body_ends_its_edge_when_moved() {
     let (mut world, _) = world_with_ground();
     let (carrier, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
-    let mut layer = ContactLayer::new();
+    let mut layer = widened_layer();
     layer.step(&mut world);
     layer.set_passive(carrier, true).unwrap();
     layer.step(&mut world);
@@ -278,7 +286,7 @@ fn fixed_a_sensor_of_an_awake_body_turned_solid_loses_its_trigger() {
     let (mut world, _) = world_with_ground();
     let (ball, _) = ball_at(&mut world, [0.0, 3.0, 0.0], 0.5);
     let sensor = world.insert_collider(ColliderBuilder::ball(0.8).sensor(true), Some(ball));
-    let mut layer = ContactLayer::new();
+    let mut layer = widened_layer();
     layer.step(&mut world);
     assert!(layer.graph().node_of_sensor(sensor).is_some());
     world.colliders[sensor].set_sensor(false);

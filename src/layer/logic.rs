@@ -308,10 +308,19 @@ impl ContactLayer {
         Ok(())
     }
 
-    /// Widens the collision types of sensor colliders to all body-type pairs (the
-    /// default, so triggers on fixed, kinematic and dynamic bodies see bodies of every
-    /// type), or leaves sensors as the user built them (`false`; set before the first
-    /// step).
+    /// Opt-in: widens the collision types of sensor colliders to all body-type pairs,
+    /// so that triggers on fixed, kinematic and dynamic bodies see bodies of every type
+    /// (the paper's trigger volumes, §3.2), or leaves sensors as the user built them
+    /// (`false`, the default: a trigger then sees what Rapier's own sensor pairs give,
+    /// by default a sensor sees dynamic bodies only, or any body if it is carried by a
+    /// dynamic one). Set it before the first step.
+    ///
+    /// What it changes for the user: the sensors' `active_collision_types()` read the
+    /// widened types while the layer is attached (`detach` gives the user's back, and
+    /// so does switching it off), and Rapier reports more sensor pairs; a user's own
+    /// event handler composed with
+    /// [`Self::event_handler_with`] still receives only the sensor events the user's
+    /// own types give. Sensors never push bodies, so no trajectory changes.
     ///
     /// Widening happens in the pre-step before a sensor's first Rapier step. Rapier
     /// pairs colliders that do not move only when they appear, so a sensor that was

@@ -111,8 +111,10 @@ pub struct StepStats {
 ///
 /// Observe-only unless asked: without rules it sets no hook flag on any collider, and
 /// the hooks it hands Rapier are then never called, so attaching it changes nothing
-/// in Rapier's results (tested bit for bit). Triggers widen the collision types of
-/// sensor colliders only (sensors push nothing; see [`Self::set_trigger_widening`]).
+/// in Rapier's results (tested bit for bit). Under touching tracking (the default) it
+/// adds `ActiveEvents::COLLISION_EVENTS` to colliders (which changes no result, and
+/// `detach` takes off); sensors' collision types are widened only on request
+/// ([`Self::set_trigger_widening`]).
 #[derive(Debug)]
 pub struct ContactLayer {
     graph: ContactGraph,

@@ -30,9 +30,9 @@
 //!   joint can be added later, and passive jointed bodies would be lost).
 //!
 //! # Pay for what you use
-//! A scene without rules gets no hook flag; without timers no timer work; the sensor
-//! collision types are widened only on sensor colliders (which never push bodies, so
-//! motion is unchanged).
+//! A scene without rules gets no hook flag; without timers no timer work; sensor
+//! collision types are widened only when asked for (`set_trigger_widening`), and then
+//! only on sensor colliders (which never push bodies, so motion is unchanged).
 
 pub(crate) mod containers;
 pub mod hooks;
@@ -159,7 +159,7 @@ pub(crate) struct Logic {
 impl Logic {
     pub(crate) fn new() -> Self {
         Self {
-            widen_sensors: true,
+            widen_sensors: false,
             ..Self::default()
         }
     }

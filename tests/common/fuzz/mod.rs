@@ -109,7 +109,8 @@ impl Harness {
     /// asked for touching tracking and the base subscriber takes every kind but
     /// those only proximity tracking produces (`KindSet::NEEDS_EVERY_PAIR`), so that
     /// touching tracking is in effect until an operation (speed-ups, a subscription
-    /// to such a kind) switches it to proximity, and back.
+    /// to such a kind) switches it to proximity, and back. Sensors are widened
+    /// (`set_trigger_widening`) in proximity mode only.
     pub fn with_mode(touching: bool) -> Self {
         let mut world = PhysicsWorld::new();
         world.insert(
@@ -132,6 +133,9 @@ impl Harness {
             None,
         );
         let mut layer = ContactLayer::new();
+        // Both trigger semantics are fuzzed: Rapier's own sensor collision types
+        // (the default) with touching tracking, widened ones with proximity tracking.
+        layer.set_trigger_widening(!touching);
         let base = if touching {
             layer.set_tracking(rapier_contact_graph::coherence::Tracking::Touching);
             Filter::kinds(KindSet::ALL.without(KindSet::NEEDS_EVERY_PAIR))
