@@ -421,11 +421,24 @@ impl Coherence {
         graph: &mut ContactGraph,
         view: &WorldView,
         screen: &Screen,
+        events: &[TouchEvent],
         colliders: &[ColliderHandle],
         all: bool,
     ) {
         let step = self.step;
         let mut counts: BTreeMap<EdgeId, u32> = BTreeMap::new();
+        // The collider pairs that sent `Started` this step; a touching pair counted
+        // here without one may have begun before its colliders were flagged.
+        let key = |a: ColliderHandle, b: ColliderHandle| {
+            let (a, b) = (a.into_raw_parts(), b.into_raw_parts());
+            (a.min(b), a.max(b))
+        };
+        let started: std::collections::HashSet<_> = events
+            .iter()
+            .filter(|e| e.started)
+            .map(|e| key(e.c1, e.c2))
+            .collect();
+        let mut pre_flag: Vec<NodeId> = Vec::new();
         // A pair between two rescanned nodes is met from both: counted once.
         let mut seen: std::collections::BTreeSet<((u32, u32), (u32, u32))> = Default::default();
         let mut visit = |this: &mut Self, graph: &mut ContactGraph, pair: &ContactPair| {
@@ -449,6 +462,9 @@ impl Coherence {
             if pair.has_any_active_contact() {
                 if let Some(e) = pairs::physical_edge_for(graph, n1, n2, step) {
                     *counts.entry(e).or_insert(0) += 1;
+                }
+                if !started.contains(&key(pair.collider1, pair.collider2)) {
+                    pre_flag.extend([n1, n2]);
                 }
             }
         };
@@ -536,6 +552,23 @@ impl Coherence {
             }
             if let Some(e) = graph.edge_mut(eid) {
                 e.cache.collider_pairs = want;
+            }
+        }
+        // Bodies newly holding a pair that may have begun before the flag: their
+        // disabled-collider signature starts from the set read now.
+        pre_flag.sort_unstable();
+        pre_flag.dedup();
+        for n in pre_flag {
+            let sig = match graph.node(n).map(|n| (n.pre_flag_touch, n.source)) {
+                Some((false, NodeSource::Body(h))) => view
+                    .bodies
+                    .get(h)
+                    .map(|rb| crate::graph::mirror::disabled_sig(view, rb.colliders())),
+                _ => None,
+            };
+            if let (Some(sig), Some(node)) = (sig, graph.node_mut(n)) {
+                node.pre_flag_touch = true;
+                node.disabled_sig = sig;
             }
         }
         let settled_twice = !again.is_empty();

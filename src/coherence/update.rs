@@ -297,9 +297,9 @@ impl Coherence {
             let late = std::mem::take(&mut self.touch_rescan);
             if requested || switched {
                 self.stale.clear();
-                self.rescan_touching(graph, view, screen, &[], true);
+                self.rescan_touching(graph, view, screen, events, &[], true);
             } else if !late.is_empty() || !self.stale.is_empty() {
-                self.rescan_touching(graph, view, screen, &late, false);
+                self.rescan_touching(graph, view, screen, events, &late, false);
             }
             self.counters.bodies = walk.len();
         } else if scan {
@@ -506,11 +506,16 @@ impl Coherence {
             // send (those of pairs touching before the layer flagged them), so they
             // are counted again. Proximity tracking reads the pairs of refreshed
             // bodies anyway.
+            // Only bodies with such pairs pay for the signature (`Node::pre_flag_touch`):
+            // every other touching pair of theirs sent `Started`, so Rapier sends
+            // its `Stopped` too.
             let disabled = match (rb, self.tracking()) {
-                (Some(rb), Tracking::Touching) => nodes::disabled_sig(view, rb.colliders()),
-                _ => 0,
+                (Some(rb), Tracking::Touching) if n.pre_flag_touch => {
+                    Some(nodes::disabled_sig(view, rb.colliders()))
+                }
+                _ => None,
             };
-            if n.disabled_sig != disabled {
+            if let Some(disabled) = disabled.filter(|&d| d != n.disabled_sig) {
                 n.disabled_sig = disabled;
                 self.stale.push(id);
             }

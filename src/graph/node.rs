@@ -157,6 +157,13 @@ pub struct Node {
     /// that sent `Started`: a change re-counts the body's touching pairs.
     #[cfg_attr(feature = "serde", serde(default))]
     pub(crate) disabled_sig: u64,
+    /// For a body, under touching tracking: a rescan counted a touching pair of it
+    /// that sent no `Started` in that step (it may have begun before its colliders
+    /// were flagged), so `disabled_sig` is kept for it. Conservative: never cleared.
+    /// Only such bodies pay for the signature (one collider lookup per collider per
+    /// refresh).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) pre_flag_touch: bool,
     /// The node's position in its group's member list (a hint checked on use;
     /// rebuilt on restore, see [`crate::Groups`]).
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -181,6 +188,7 @@ impl Node {
             collider_count: 0,
             collider_sig: 0,
             disabled_sig: 0,
+            pre_flag_touch: false,
             group_slot: 0,
         }
     }
