@@ -214,3 +214,41 @@ fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
         assert_ne!(w[0], w[1], "sleep events of the ball: {kinds:?}");
     }
 }
+
+/// Found by the fuzzed sequences (`PROPTEST_RNG_SEED=11`): a ball asleep inside a
+/// parentless sensor, teleported away (which wakes it) and turned fixed before the
+/// next step. Rapier never lists it as active, so the layer, which last saw it asleep,
+/// cannot see the change: as `request_full_sync` documents, changing a body the layer
+/// last saw asleep needs it (the harness now asks for it then). With it, the sensor
+/// edge ends at once.
+#[test]
+fn fixed_a_sleeping_body_woken_and_turned_fixed_between_steps_is_read_after_a_full_sync() {
+    let (mut world, _) = world_with_ground();
+    let sensor = world.insert_collider(
+        ColliderBuilder::cuboid(1.0, 1.0, 1.0)
+            .sensor(true)
+            .translation(Vector::new(0.0, 0.5, 0.0)),
+        None,
+    );
+    let (ball, _) = ball_at(&mut world, [0.0, 0.5, 0.0], 0.5);
+    let mut layer = ContactLayer::new();
+    for _ in 0..300 {
+        layer.step(&mut world);
+    }
+    assert!(world.bodies[ball].is_sleeping());
+    assert!(!layer
+        .sensor_contents(&world.colliders, sensor)
+        .unwrap()
+        .is_empty());
+    world.bodies[ball].set_translation(Vector::new(5.0, 0.5, 0.0), true);
+    world.bodies[ball].set_body_type(RigidBodyType::Fixed, true);
+    layer.request_full_sync();
+    for _ in 0..3 {
+        layer.step(&mut world);
+        layer.validate(&world).unwrap();
+    }
+    assert!(layer
+        .sensor_contents(&world.colliders, sensor)
+        .unwrap()
+        .is_empty());
+}

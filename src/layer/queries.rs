@@ -183,7 +183,9 @@ impl ContactLayer {
     /// reads every node's pairs and every trigger again. Needed only after changing a
     /// *sleeping, fixed or passive* body, or static geometry, in place in a way Rapier
     /// does not wake it for (its type, moving a fixed body or a parentless collider, a
-    /// sensor flag); adding and removing bodies and colliders is detected, and so is a
+    /// sensor flag); "sleeping" as of the last step: a sleeping body woken (say, by a
+    /// teleport) and turned fixed before the next step never shows in Rapier's active
+    /// set; adding and removing bodies and colliders is detected, and so is a
     /// moved trigger. A collider moved to another body (`ColliderSet::set_parent`) or
     /// swapped for another is followed without it when Rapier wakes either side (a
     /// dynamic body); between fixed or sleeping bodies, within `colliders / 32` steps,

@@ -47,10 +47,21 @@ impl Harness {
     /// Whether changing this body in place needs `request_full_sync` per the docs:
     /// it is sleeping, fixed or disabled (passive).
     fn needs_sync(&self, h: RigidBodyHandle) -> bool {
-        self.world
-            .bodies
-            .get(h)
-            .is_none_or(|rb| rb.is_sleeping() || rb.is_fixed() || !rb.is_enabled())
+        // Asleep as the layer last saw it counts too: a sleeping body woken (by a
+        // teleport) and turned fixed before the next step never shows in Rapier's
+        // active set, so the layer cannot see the change.
+        let seen_asleep = self
+            .layer
+            .node_of_body(h)
+            .ok()
+            .and_then(|n| self.layer.graph().node(n))
+            .is_some_and(|n| !n.is_awake());
+        seen_asleep
+            || self
+                .world
+                .bodies
+                .get(h)
+                .is_none_or(|rb| rb.is_sleeping() || rb.is_fixed() || !rb.is_enabled())
     }
 
     /// Disabled in Rapier though not asked passive: Rapier quarantined it (a
