@@ -7,7 +7,7 @@
 //! cargo run --example passive
 //! ```
 
-use rapier_contact_graph::EventKind::{ProximityBegin, ProximityEnd, TouchBegin, TouchEnd};
+use rapier_contact_graph::EventKind::{ProximityStarted, ProximityStopped, ContactStarted, ContactStopped};
 use rapier_contact_graph::{ContactLayer, Filter, KindSet, NodeId};
 use rcg_scenes::{self as scenes, Scene};
 
@@ -40,7 +40,7 @@ fn main() {
     let mut layer = ContactLayer::new();
     // Begin / end and sleep events (persist events would repeat every step).
     let events = layer.subscribe(Filter::kinds(
-        KindSet::of(&[ProximityBegin, ProximityEnd, TouchBegin, TouchEnd]).union(KindSet::SLEEP),
+        KindSet::of(&[ProximityStarted, ProximityStopped, ContactStarted, ContactStopped]).union(KindSet::SLEEP),
     ));
     layer.step(&mut scene.world);
     let ball = layer.node_of_body(ball_body).unwrap();

@@ -37,8 +37,8 @@ fn main() {
 
     let mut layer = ContactLayer::new();
     let touches = layer.subscribe(Filter::kinds(KindSet::of(&[
-        EventKind::TouchBegin,
-        EventKind::TouchEnd,
+        EventKind::ContactStarted,
+        EventKind::ContactStopped,
     ])));
     let top_y = |w: &PhysicsWorld| w.bodies[top].translation().y;
     let mut rule = None;

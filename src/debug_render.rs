@@ -467,7 +467,7 @@ const UNBOUNDED: Real = 1.0e30;
 struct End<'a> {
     object: Option<DebugRenderObject<'a>>,
     pos: Option<Vector>,
-    /// A body the solver moves (Rigid or Link): preferred as the edge's object.
+    /// A body the solver moves (Dynamic or Link): preferred as the edge's object.
     simulated: bool,
 }
 
@@ -768,7 +768,7 @@ impl GraphOverlay {
         };
         // Trigger and structural edges run from the trigger or container to the body.
         let from_b = match which {
-            Layer::Trigger => nb.kind() == NodeKind::Trigger,
+            Layer::Trigger => nb.kind() == NodeKind::Sensor,
             Layer::Structural => nb.kind().category() == crate::Category::Container,
             _ => false,
         };

@@ -45,7 +45,7 @@
 //! # Sensors
 //! [`sensor_contents`](ContactLayer::sensor_contents) (what is inside a sensor
 //! collider), [`sensors_containing`](ContactLayer::sensors_containing) (which sensors
-//! a body is in), and `TriggerEnter` / `TriggerExit` events naming the sensor's
+//! a body is in), and `SensorStarted` / `SensorStopped` events naming the sensor's
 //! collider. The layer widens sensors' collision types so that a sensor on a fixed
 //! body sees fixed bodies too ([`ContactLayer::set_trigger_widening`] says what that
 //! changes, and how to switch it off).
@@ -72,18 +72,18 @@
 //! );
 //! let mut layer = ContactLayer::new();
 //! // Touches of the ball, and any body falling asleep (crossbeam receivers).
-//! let touches = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]));
+//! let touches = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_bodies(&[ball]));
 //! let _sleep = layer.subscribe(Filter::kinds(KindSet::SLEEP));
 //! for _ in 0..60 {
 //!     layer.step(&mut world);
 //! }
 //! let first = touches.try_iter().next().unwrap();
-//! assert_eq!(first.kind, EventKind::TouchBegin);
+//! assert_eq!(first.kind, EventKind::ContactStarted);
 //! assert!(first.body_a == Some(ball) || first.body_b == Some(ball));
 //! ```
-//! Kinds come in Begin / Persist / End spans (the listener contract of
+//! Kinds come in Started / Persisted / Stopped spans (the listener contract of
 //! [`events`]); every event carries the Rapier handles of what it names. Subscribe
-//! to `Begin`/`End` only where you can: `TouchPersist` and the proximity kinds need
+//! to `Started`/`Stopped` only where you can: `ContactPersisted` and the proximity kinds need
 //! every pair read each step (proximity tracking), the others follow Rapier's own
 //! collision events under touching tracking
 //! ([`coherence::Tracking::Touching`], a fraction of the cost).
@@ -94,11 +94,11 @@
 //! | `narrow_phase.contact_pairs_with(c)` + `has_any_active_contact()` | [`ContactLayer::touching_body`] |
 //! | a contact's normal and impulses | [`ContactLayer::contact_details`], [`ContactLayer::supports_of_body`] |
 //! | `narrow_phase.intersection_pairs_with(sensor)` | [`ContactLayer::sensor_contents`], [`ContactLayer::sensors_containing`] |
-//! | `CollisionEvent::Started` / `Stopped` | `TouchBegin` / `TouchEnd`, `TriggerEnter` / `TriggerExit` ([`EventKind`]) |
+//! | `CollisionEvent::Started` / `Stopped` | `ContactStarted` / `ContactStopped`, `SensorStarted` / `SensorStopped` ([`EventKind`]) |
 //! | `collider1` / `collider2` | [`Event::collider_a`] / [`Event::collider_b`], and [`Event::body_a`] / [`Event::body_b`] |
 //! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
 //! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
-//! | dynamic / kinematic / fixed body | node kinds `Rigid` / `Scripted` / `Fixed` ([`NodeKind`]) |
+//! | dynamic / kinematic / fixed body | node kinds `Dynamic` / `Kinematic` / `Fixed` ([`NodeKind`]) |
 //! | a disabled body | a passive body ([`ContactLayer::set_passive`]) |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
 //!

@@ -43,9 +43,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         }
     }
     let graph_physical: usize = [
-        NodeKind::Rigid,
+        NodeKind::Dynamic,
         NodeKind::Fixed,
-        NodeKind::Scripted,
+        NodeKind::Kinematic,
         NodeKind::Link,
     ]
     .iter()

@@ -28,7 +28,7 @@ fn layer_node_queries_with_bad_ids() {
         assert_eq!(layer.is_supported(n), Err(Error::StaleNode(n)));
         assert!(!layer.insulates(n));
     }
-    assert_eq!(layer.kind_of(b), Ok(NodeKind::Rigid));
+    assert_eq!(layer.kind_of(b), Ok(NodeKind::Dynamic));
     // Non-finite gravity of the last analysed world: an error, not an answer.
     world.gravity = Vector::splat(Real::NAN);
     layer.step(&mut world);

@@ -123,12 +123,12 @@ fn bug_step_remove_and_insert_leaves_ghost_node() {
     // Sleeping body removed, another inserted: its touch span never ends.
     let (mut world, _, ball, mut layer) = stepped(400);
     assert!(world.bodies[ball].is_sleeping());
-    let events = layer.subscribe(Filter::kinds(KindSet::TOUCH));
+    let events = layer.subscribe(Filter::kinds(KindSet::CONTACT));
     world.remove_body(ball);
     ball_at(&mut world, [20.0, 5.0, 0.0], 0.5);
     layer.step(&mut world);
     assert!(
-        events.try_iter().any(|e| e.kind == EventKind::TouchEnd),
+        events.try_iter().any(|e| e.kind == EventKind::ContactStopped),
         "removing a body ends its spans (events contract)"
     );
     layer.validate(&world).unwrap();

@@ -34,9 +34,9 @@ fn run(tracking: Tracking) {
     let (mut world, a, b, sensor) = scene();
     let mut layer = ContactLayer::new();
     layer.set_tracking(tracking);
-    let all = layer.subscribe(Filter::kinds(KindSet::TOUCH | KindSet::TRIGGER));
-    let of_a = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[a]));
-    let of_sensor = layer.subscribe(Filter::kinds(KindSet::TRIGGER).with_colliders(&[sensor]));
+    let all = layer.subscribe(Filter::kinds(KindSet::CONTACT | KindSet::SENSOR));
+    let of_a = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_bodies(&[a]));
+    let of_sensor = layer.subscribe(Filter::kinds(KindSet::SENSOR).with_colliders(&[sensor]));
     let (mut seen_a, mut seen_sensor) = (Vec::new(), Vec::new());
     for _ in 0..120 {
         layer.step(&mut world);
@@ -47,21 +47,21 @@ fn run(tracking: Tracking) {
         // Exactly the step's events naming the body, in order; the same as the query.
         let want_a: Vec<Event> = step
             .iter()
-            .filter(|e| KindSet::TOUCH.contains(e.kind))
+            .filter(|e| KindSet::CONTACT.contains(e.kind))
             .filter(|e| e.body_a == Some(a) || e.body_b == Some(a))
             .copied()
             .collect();
         assert_eq!(got_a, want_a);
         let queried: Vec<Event> = layer
             .last_events_of_body(a)
-            .filter(|e| KindSet::TOUCH.contains(e.kind))
+            .filter(|e| KindSet::CONTACT.contains(e.kind))
             .copied()
             .collect();
         assert_eq!(queried, want_a);
         // Exactly the trigger events of that sensor.
         let want_sensor: Vec<Event> = step
             .iter()
-            .filter(|e| KindSet::TRIGGER.contains(e.kind))
+            .filter(|e| KindSet::SENSOR.contains(e.kind))
             .filter(|e| e.collider_a == Some(sensor))
             .copied()
             .collect();
@@ -70,7 +70,7 @@ fn run(tracking: Tracking) {
         seen_sensor.extend(got_sensor);
     }
     // Ball a landed (a touch with the ground) and never met ball b.
-    assert!(seen_a.iter().any(|e| e.kind == EventKind::TouchBegin));
+    assert!(seen_a.iter().any(|e| e.kind == EventKind::ContactStarted));
     assert!(seen_a
         .iter()
         .all(|e| e.body_a != Some(b) && e.body_b != Some(b)));
@@ -80,8 +80,8 @@ fn run(tracking: Tracking) {
     assert_eq!(
         kinds,
         [
-            (EventKind::TriggerEnter, Some(b)),
-            (EventKind::TriggerExit, Some(b))
+            (EventKind::SensorStarted, Some(b)),
+            (EventKind::SensorStopped, Some(b))
         ]
     );
 }
@@ -135,7 +135,7 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
         layer.set_tracking(tracking);
         layer.set_contact_details(details);
         let rx =
-            layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])).with_bodies(&[a]));
+            layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])).with_bodies(&[a]));
         for _ in 0..120 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();

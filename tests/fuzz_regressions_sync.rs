@@ -152,7 +152,7 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
         .map(|e| e.kind)
         .collect();
     // Failed before the fix: [FellAsleep, WokeUp, WokeUp]: fixation turns the node Fixed (no
-    // FellAsleep), its release turns it Rigid and awake (WokeUp).
+    // FellAsleep), its release turns it Dynamic and awake (WokeUp).
     for w in kinds.windows(2) {
         assert_ne!(w[0], w[1], "sleep events of the ball: {kinds:?}");
     }

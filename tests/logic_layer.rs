@@ -17,7 +17,7 @@ fn transitions(log: &ContractLog) -> Vec<rapier_contact_graph::Event> {
         .filter(|e| {
             !matches!(
                 e.kind,
-                EventKind::ProximityPersist | EventKind::TouchPersist
+                EventKind::ProximityPersisted | EventKind::ContactPersisted
             )
         })
         .collect()
@@ -266,7 +266,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     let carrier_t = layer.graph().node_of_sensor(carrier_sensor).unwrap();
     names.set(zone_t, "zone-trigger");
     names.set(carrier_t, "carrier-trigger");
-    assert_eq!(layer.graph().count_of_kind(NodeKind::Trigger), 2);
+    assert_eq!(layer.graph().count_of_kind(NodeKind::Sensor), 2);
     common::run_validated(&mut scene, &mut layer, 1, 300);
     log.drain();
     log.agrees_with(&layer);
@@ -274,7 +274,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
         let b = layer.node_of_body(scene.body(body).unwrap()).unwrap();
         log.events
             .iter()
-            .any(|e| e.kind == EventKind::TriggerEnter && e.a == t && e.b == Some(b))
+            .any(|e| e.kind == EventKind::SensorStarted && e.a == t && e.b == Some(b))
     };
     assert!(entered(zone_t, "ball"), "dynamic through a fixed trigger");
     assert!(
@@ -297,7 +297,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     let exited = log
         .events
         .iter()
-        .any(|e| e.kind == EventKind::TriggerExit && e.a == zone_t);
+        .any(|e| e.kind == EventKind::SensorStopped && e.a == zone_t);
     assert!(exited, "the slider leaves the zone");
     assert!(
         !log.events
@@ -310,7 +310,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
         common::format_events(
             &transitions(&log)
                 .into_iter()
-                .filter(|e| matches!(e.kind, EventKind::TriggerEnter | EventKind::TriggerExit))
+                .filter(|e| matches!(e.kind, EventKind::SensorStarted | EventKind::SensorStopped))
                 .collect::<Vec<_>>(),
             &names
         )
@@ -456,7 +456,7 @@ fn scene_stream(mut scene: scenes::Scene, steps: u64) -> String {
 #[test]
 fn a_ball_rolling_through_a_trigger_and_off_a_ledge_event_stream() {
     let stream = scene_stream(scenes::trigger_ledge(), 300);
-    assert!(stream.contains("TriggerEnter") && stream.contains("TriggerExit"));
+    assert!(stream.contains("SensorStarted") && stream.contains("SensorStopped"));
     insta::assert_snapshot!("trigger_ledge_events", stream);
 }
 
@@ -471,6 +471,6 @@ fn a_toppling_stack_event_stream() {
 #[test]
 fn a_multibody_pendulum_hitting_a_wall_event_stream() {
     let stream = scene_stream(scenes::pendulum_wall(), 200);
-    assert!(stream.contains("TouchBegin wall l2") || stream.contains("TouchBegin l2 wall"));
+    assert!(stream.contains("ContactStarted wall l2") || stream.contains("ContactStarted l2 wall"));
     insta::assert_snapshot!("pendulum_wall_events", stream);
 }

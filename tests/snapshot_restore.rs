@@ -130,7 +130,7 @@ fn a_restored_trigger_ledge_continues_bit_for_bit_with_its_trigger_events() {
             .orig
             .layer
             .graph()
-            .count_of_kind(rapier_contact_graph::NodeKind::Trigger);
+            .count_of_kind(rapier_contact_graph::NodeKind::Sensor);
         assert_eq!(start, 1);
         inside_seen |= t
             .orig

@@ -33,7 +33,7 @@ use super::*;
 ///
 /// # What the graph holds, and what it costs
 /// - Physical edges are exactly the touching body pairs (the paper's contact edges);
-///   no proximity edges and no `TouchPersist` (nothing reads a pair that did not
+///   no proximity edges and no `ContactPersisted` (nothing reads a pair that did not
 ///   change). A subscription to those events, the speed-ups or the monitor need
 ///   every pair read: while one of them is there, the layer tracks proximity. Each edge counts its touching collider pairs
 ///   (`ContactCache::collider_pairs`): `Started` adds one, `Stopped` takes one, and
@@ -79,7 +79,7 @@ pub enum Tracking {
     Proximity,
     /// Touching edges only, driven by Rapier's collision events: proximity and
     /// persistence at the price of their use. In effect while no subscription asks
-    /// for `Proximity*` or `TouchPersist` events and neither the speed-ups nor the
+    /// for `Proximity*` or `ContactPersisted` events and neither the speed-ups nor the
     /// monitor run; proximity tracking meanwhile (each switch reads the pairs once).
     Touching,
 }

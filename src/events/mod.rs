@@ -8,20 +8,21 @@
 //!   ([`crate::ContactLayer::current_step`] right after that step).
 //! - **Pairs.** `a` is the node with the smaller slot index (the paper's *A*), `b`
 //!   the other; for trigger events `a` is the trigger and `b` the body.
-//! - **Lifecycle.** For a pair, every `ProximityBegin` is followed by zero or more
-//!   `ProximityPersist` and exactly one `ProximityEnd`; likewise `TouchBegin` /
-//!   `TouchPersist` / `TouchEnd`, always nested inside the proximity span;
-//!   `TriggerEnter` and `TriggerExit` alternate. Removing a body (or making it
+//! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
+//!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
+//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
+//!   proximity span;
+//!   `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
 //!   passive) ends every span it is part of, in the step the layer sees it go.
-//! - **Persist events** are sent only for pairs with an awake body; the pairs of
+//! - **Persisted events** are sent only for pairs with an awake body; the pairs of
 //!   sleeping bodies are frozen (queries on the graph stay exact for them).
 //! - **Order within a step** (deterministic: the same inputs give the same stream):
-//!   1. ends of edges removed with a node (`TouchEnd`, `ProximityEnd`, `TriggerExit`),
-//!      in removal order;
+//!   1. ends of edges removed with a node (`ContactStopped`, `ProximityStopped`,
+//!      `SensorStopped`), in removal order;
 //!   2. edge events, edge by edge in the order the analysis refreshed them (Rapier's
-//!      pair order, then vanished edges): `ProximityBegin`, `TouchBegin`,
-//!      `ProximityPersist`, `TouchPersist`, `TouchEnd`, `ProximityEnd`;
-//!      trigger edges give `TriggerEnter` / `TriggerExit`;
+//!      pair order, then vanished edges): `ProximityStarted`, `ContactStarted`,
+//!      `ProximityPersisted`, `ContactPersisted`, `ContactStopped`, `ProximityStopped`;
+//!      trigger edges give `SensorStarted` / `SensorStopped`;
 //!   3. `FellAsleep` / `WokeUp`, in the order the bodies were refreshed;
 //!   4. `TimerTick`, timers in slot order, ticks ascending;
 //!   5. `Violation`, then `Repaired` (monitor on): by violation kind, then body
@@ -47,26 +48,44 @@ use crate::graph::NodeId;
 pub const MAX_CAPACITY: usize = 1 << 24;
 
 /// The kinds of event.
+///
+/// Named as Rapier names its collision events (`CollisionEvent::Started` /
+/// `Stopped`): `Contact*` for touching pairs (the paper's touch begin / end),
+/// `Sensor*` for bodies entering and leaving a sensor collider (the paper's trigger
+/// volume), `Proximity*` for narrow-phase pairs. The names of 0.1 remain as
+/// deprecated aliases (`TouchBegin`, `TriggerEnter`, …), and serialised events
+/// written with them still load.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[repr(u8)]
 pub enum EventKind {
     /// Two bodies came into close proximity (a Rapier narrow-phase pair appeared).
-    ProximityBegin = 0,
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityBegin"))]
+    ProximityStarted = 0,
     /// Two awake bodies stayed in close proximity.
-    ProximityPersist = 1,
-    /// Two bodies left close proximity (or one was removed or made passive).
-    ProximityEnd = 2,
-    /// Two bodies started touching.
-    TouchBegin = 3,
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityPersist"))]
+    ProximityPersisted = 1,
+    /// Two bodies left close proximity (or one was removed or disabled).
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityEnd"))]
+    ProximityStopped = 2,
+    /// Two bodies started touching (Rapier's `CollisionEvent::Started` of a
+    /// non-sensor pair; the paper's touch begin).
+    #[cfg_attr(feature = "serde", serde(alias = "TouchBegin"))]
+    ContactStarted = 3,
     /// Two bodies, one awake, kept touching.
-    TouchPersist = 4,
-    /// Two bodies stopped touching.
-    TouchEnd = 5,
-    /// A body entered a trigger volume.
-    TriggerEnter = 6,
-    /// A body left a trigger volume.
-    TriggerExit = 7,
+    #[cfg_attr(feature = "serde", serde(alias = "TouchPersist"))]
+    ContactPersisted = 4,
+    /// Two bodies stopped touching (Rapier's `CollisionEvent::Stopped`; the paper's
+    /// touch end).
+    #[cfg_attr(feature = "serde", serde(alias = "TouchEnd"))]
+    ContactStopped = 5,
+    /// A body entered a sensor collider (Rapier's `CollisionEvent::Started` with a
+    /// sensor; the paper's trigger enter).
+    #[cfg_attr(feature = "serde", serde(alias = "TriggerEnter"))]
+    SensorStarted = 6,
+    /// A body left a sensor collider (the paper's trigger exit).
+    #[cfg_attr(feature = "serde", serde(alias = "TriggerExit"))]
+    SensorStopped = 7,
     /// A timer's period elapsed.
     TimerTick = 8,
     /// A body fell asleep.
@@ -85,17 +104,49 @@ pub enum EventKind {
     Repaired = 12,
 }
 
+/// The names of 0.1, kept as deprecated aliases of Rapier's.
+#[allow(non_upper_case_globals)]
+impl EventKind {
+    /// Renamed to [`EventKind::ProximityStarted`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ProximityStarted, Rapier's name")]
+    pub const ProximityBegin: EventKind = EventKind::ProximityStarted;
+    /// Renamed to [`EventKind::ProximityPersisted`].
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ProximityPersisted, Rapier's name"
+    )]
+    pub const ProximityPersist: EventKind = EventKind::ProximityPersisted;
+    /// Renamed to [`EventKind::ProximityStopped`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ProximityStopped, Rapier's name")]
+    pub const ProximityEnd: EventKind = EventKind::ProximityStopped;
+    /// Renamed to [`EventKind::ContactStarted`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactStarted, Rapier's name")]
+    pub const TouchBegin: EventKind = EventKind::ContactStarted;
+    /// Renamed to [`EventKind::ContactPersisted`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactPersisted, Rapier's name")]
+    pub const TouchPersist: EventKind = EventKind::ContactPersisted;
+    /// Renamed to [`EventKind::ContactStopped`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactStopped, Rapier's name")]
+    pub const TouchEnd: EventKind = EventKind::ContactStopped;
+    /// Renamed to [`EventKind::SensorStarted`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::SensorStarted, Rapier's name")]
+    pub const TriggerEnter: EventKind = EventKind::SensorStarted;
+    /// Renamed to [`EventKind::SensorStopped`].
+    #[deprecated(since = "0.2.0", note = "renamed to EventKind::SensorStopped, Rapier's name")]
+    pub const TriggerExit: EventKind = EventKind::SensorStopped;
+}
+
 impl EventKind {
     /// All kinds, in declaration order.
     pub const ALL: [EventKind; 13] = [
-        EventKind::ProximityBegin,
-        EventKind::ProximityPersist,
-        EventKind::ProximityEnd,
-        EventKind::TouchBegin,
-        EventKind::TouchPersist,
-        EventKind::TouchEnd,
-        EventKind::TriggerEnter,
-        EventKind::TriggerExit,
+        EventKind::ProximityStarted,
+        EventKind::ProximityPersisted,
+        EventKind::ProximityStopped,
+        EventKind::ContactStarted,
+        EventKind::ContactPersisted,
+        EventKind::ContactStopped,
+        EventKind::SensorStarted,
+        EventKind::SensorStopped,
         EventKind::TimerTick,
         EventKind::FellAsleep,
         EventKind::WokeUp,
@@ -117,21 +168,27 @@ impl KindSet {
     pub const NONE: KindSet = KindSet(0);
     /// Every kind.
     pub const ALL: KindSet = KindSet((1 << EventKind::ALL.len()) - 1);
-    /// Proximity begin / persist / end.
+    /// Proximity started / persisted / stopped.
     pub const PROXIMITY: KindSet = KindSet(0b000_0000_0111);
-    /// Touch begin / persist / end.
-    pub const TOUCH: KindSet = KindSet(0b000_0011_1000);
-    /// Trigger enter / exit.
-    pub const TRIGGER: KindSet = KindSet(0b000_1100_0000);
+    /// Contact started / persisted / stopped (the paper's touch begin / persist / end).
+    pub const CONTACT: KindSet = KindSet(0b000_0011_1000);
+    /// Sensor started / stopped (the paper's trigger enter / exit).
+    pub const SENSOR: KindSet = KindSet(0b000_1100_0000);
     /// Fell asleep / woke up.
     pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
     /// Violation / repaired (the plausibility monitor's).
     pub const MONITOR: KindSet = KindSet(0b1_1000_0000_0000);
-    /// The kinds only proximity tracking produces (`Proximity*` and `TouchPersist`):
+    /// Renamed to [`KindSet::CONTACT`].
+    #[deprecated(since = "0.2.0", note = "renamed to KindSet::CONTACT, Rapier's name")]
+    pub const TOUCH: KindSet = KindSet::CONTACT;
+    /// Renamed to [`KindSet::SENSOR`].
+    #[deprecated(since = "0.2.0", note = "renamed to KindSet::SENSOR, Rapier's name")]
+    pub const TRIGGER: KindSet = KindSet::SENSOR;
+    /// The kinds only proximity tracking produces (`Proximity*` and `ContactPersisted`):
     /// a subscription to one of them needs every pair read each step
     /// ([`crate::coherence::Tracking`]).
     pub const NEEDS_EVERY_PAIR: KindSet =
-        KindSet(KindSet::PROXIMITY.0 | 1 << EventKind::TouchPersist as u16);
+        KindSet(KindSet::PROXIMITY.0 | 1 << EventKind::ContactPersisted as u16);
 
     /// The set of the given kinds.
     pub fn of(kinds: &[EventKind]) -> KindSet {
@@ -163,7 +220,7 @@ impl KindSet {
     }
 }
 
-/// `KindSet::TOUCH | KindSet::TRIGGER`, as Rapier's flags combine.
+/// `KindSet::CONTACT | KindSet::SENSOR`, as Rapier's flags combine.
 impl std::ops::BitOr for KindSet {
     type Output = KindSet;
     #[inline]
@@ -179,7 +236,7 @@ impl std::ops::BitOrAssign for KindSet {
     }
 }
 
-/// `KindSet::TOUCH | EventKind::FellAsleep`.
+/// `KindSet::CONTACT | EventKind::FellAsleep`.
 impl std::ops::BitOr<EventKind> for KindSet {
     type Output = KindSet;
     #[inline]
@@ -188,7 +245,7 @@ impl std::ops::BitOr<EventKind> for KindSet {
     }
 }
 
-/// `EventKind::TouchBegin | EventKind::TouchEnd`.
+/// `EventKind::ContactStarted | EventKind::ContactStopped`.
 impl std::ops::BitOr for EventKind {
     type Output = KindSet;
     #[inline]
@@ -239,14 +296,14 @@ pub struct Event {
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
     /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
-    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the normal of the
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the normal of the
     /// pair's deepest contact in the step, a unit vector pointing from `a` towards `b`
     /// (`b` is pushed along it); zero for other kinds, or when Rapier had no contact
     /// point. Read from the edge's per-step details, or from Rapier's narrow phase
     /// when those are not kept (touching tracking, details off).
     #[cfg_attr(feature = "serde", serde(default))]
     pub normal: Vector,
-    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the sum of the
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the sum of the
     /// normal impulses Rapier's solver applied to the pair's contacts in the step
     /// (N·s); 0 otherwise.
     #[cfg_attr(feature = "serde", serde(default))]
@@ -339,14 +396,14 @@ impl std::hash::Hash for Event {
 /// ```
 /// use rapier3d::prelude::*;
 /// use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-/// let f = Filter::kinds(KindSet::TOUCH).or_kind(EventKind::TriggerEnter);
-/// assert!(f.kinds_set().contains(EventKind::TouchBegin));
-/// assert!(!f.kinds_set().contains(EventKind::ProximityBegin));
+/// let f = Filter::kinds(KindSet::CONTACT).or_kind(EventKind::SensorStarted);
+/// assert!(f.kinds_set().contains(EventKind::ContactStarted));
+/// assert!(!f.kinds_set().contains(EventKind::ProximityStarted));
 ///
 /// // The touches of one body, by its Rapier handle.
 /// let mut bodies = RigidBodySet::new();
 /// let ball = bodies.insert(RigidBodyBuilder::dynamic());
-/// let touches_of_ball = Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]);
+/// let touches_of_ball = Filter::kinds(KindSet::CONTACT).with_bodies(&[ball]);
 /// assert_eq!(touches_of_ball.bodies(), Some(&[ball][..]));
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -489,21 +546,54 @@ impl ViolationKind {
 mod tests {
     use super::*;
 
+    /// The deprecated names of 0.1 are the renamed kinds and sets, with the same
+    /// discriminants, in expressions and in patterns.
+    #[test]
+    #[allow(deprecated)]
+    fn deprecated_kind_names_are_the_new_kinds() {
+        let pairs = [
+            (EventKind::ProximityBegin, EventKind::ProximityStarted),
+            (EventKind::ProximityPersist, EventKind::ProximityPersisted),
+            (EventKind::ProximityEnd, EventKind::ProximityStopped),
+            (EventKind::TouchBegin, EventKind::ContactStarted),
+            (EventKind::TouchPersist, EventKind::ContactPersisted),
+            (EventKind::TouchEnd, EventKind::ContactStopped),
+            (EventKind::TriggerEnter, EventKind::SensorStarted),
+            (EventKind::TriggerExit, EventKind::SensorStopped),
+        ];
+        for (i, (old, new)) in pairs.into_iter().enumerate() {
+            assert_eq!(old, new);
+            assert_eq!(new as u8, i as u8, "discriminants kept");
+        }
+        assert!(matches!(EventKind::ContactStarted, EventKind::TouchBegin));
+        assert!(!matches!(EventKind::ContactStopped, EventKind::TouchBegin));
+        assert_eq!(KindSet::TOUCH, KindSet::CONTACT);
+        assert_eq!(KindSet::TRIGGER, KindSet::SENSOR);
+        assert_eq!(
+            KindSet::CONTACT,
+            EventKind::ContactStarted | EventKind::ContactPersisted | EventKind::ContactStopped
+        );
+        assert_eq!(
+            KindSet::SENSOR,
+            EventKind::SensorStarted | EventKind::SensorStopped
+        );
+    }
+
     #[test]
     fn kind_sets_combine_with_bitor() {
         assert_eq!(
-            KindSet::TOUCH | KindSet::TRIGGER,
-            KindSet::TOUCH.union(KindSet::TRIGGER)
+            KindSet::CONTACT | KindSet::SENSOR,
+            KindSet::CONTACT.union(KindSet::SENSOR)
         );
         let mut k = KindSet::NONE;
         k |= KindSet::SLEEP;
         assert_eq!(k, KindSet::SLEEP);
         assert_eq!(
-            EventKind::TouchBegin | EventKind::TouchEnd,
-            KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd])
+            EventKind::ContactStarted | EventKind::ContactStopped,
+            KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped])
         );
-        let with = KindSet::TOUCH | EventKind::FellAsleep;
-        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::TouchBegin));
+        let with = KindSet::CONTACT | EventKind::FellAsleep;
+        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::ContactStarted));
         assert!(!with.contains(EventKind::WokeUp));
         assert_eq!(
             KindSet::from(EventKind::WokeUp),

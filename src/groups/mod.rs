@@ -311,7 +311,7 @@ pub(crate) fn traversable(kind: EdgeKind, touching: bool) -> bool {
 fn member_kind(kind: NodeKind) -> bool {
     matches!(
         kind,
-        NodeKind::Rigid | NodeKind::Link | NodeKind::Composite | NodeKind::Multibody
+        NodeKind::Dynamic | NodeKind::Link | NodeKind::Composite | NodeKind::Multibody
     )
 }
 

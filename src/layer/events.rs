@@ -23,7 +23,7 @@ impl ContactLayer {
     ///     ColliderBuilder::ball(0.5),
     /// );
     /// let mut layer = ContactLayer::new();
-    /// let touches = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])));
+    /// let touches = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])));
     /// for _ in 0..100 {
     ///     layer.step(&mut world);
     /// }

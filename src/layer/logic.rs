@@ -12,7 +12,7 @@ use super::ContactLayer;
 impl ContactLayer {
     fn check_rule_member(&self, n: NodeId) -> Result<()> {
         let node = self.graph.try_node(n)?;
-        if node.kind().category() != Category::Physical && node.kind() != NodeKind::Trigger {
+        if node.kind().category() != Category::Physical && node.kind() != NodeKind::Sensor {
             return Err(Error::WrongKind {
                 node: n,
                 expected: "a body or a trigger (rules apply to those)",
@@ -237,7 +237,7 @@ impl ContactLayer {
 
     /// Declares bodies rigidly attached by the user (not by Rapier joints) as a
     /// `Composite` node with structural edges to them: contact groups then treat them as
-    /// one. Members must be live dynamic bodies (`Rigid`), else an error. O(members).
+    /// one. Members must be live dynamic bodies (`Dynamic`), else an error. O(members).
     ///
     /// # Example
     /// ```
@@ -267,7 +267,7 @@ impl ContactLayer {
         }
         for &b in bodies {
             let kind = self.graph.try_node(b)?.kind();
-            if kind != NodeKind::Rigid {
+            if kind != NodeKind::Dynamic {
                 return Err(Error::WrongKind {
                     node: b,
                     expected: "a dynamic rigid body",

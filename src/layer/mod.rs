@@ -72,7 +72,7 @@ pub struct StepStats {
 ///     layer.step(&mut world);
 /// }
 /// let node = layer.graph().try_node_of_body(ball).unwrap();
-/// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Rigid);
+/// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Dynamic);
 /// assert!(layer.is_supported(node).unwrap(), "the ball rests on the ground");
 /// layer.validate(&world).unwrap();
 /// ```

@@ -45,7 +45,7 @@ impl ContractLog {
     pub fn attach_with(layer: &mut ContactLayer, filter: Filter) -> Self {
         let proximity = filter
             .kinds_set()
-            .contains(rapier_contact_graph::EventKind::ProximityBegin);
+            .contains(rapier_contact_graph::EventKind::ProximityStarted);
         Self {
             proximity,
             rx: layer.subscribe(filter),
@@ -76,7 +76,7 @@ impl ContractLog {
         use EventKind::*;
         assert!(ev.step >= self.last_step, "steps go backwards: {ev:?}");
         self.last_step = ev.step;
-        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        let is_end = matches!(ev.kind, ProximityStopped | ContactStopped | SensorStopped);
         let is_monitor = matches!(ev.kind, Violation | Repaired);
         for n in [Some(ev.a), ev.b].into_iter().flatten() {
             assert!(
@@ -85,8 +85,8 @@ impl ContractLog {
             );
         }
         match ev.kind {
-            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
-            | TouchEnd => {
+            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted | ContactPersisted
+            | ContactStopped => {
                 let k = key(ev.a, ev.b);
                 assert_eq!(k, (ev.a, ev.b.unwrap()), "pair events name A first: {ev:?}");
                 assert!(
@@ -94,37 +94,37 @@ impl ContractLog {
                     "event for an excluded pair: {ev:?}"
                 );
                 match ev.kind {
-                    ProximityBegin => assert!(self.prox.insert(k), "Begin twice: {ev:?}"),
-                    ProximityPersist => {
+                    ProximityStarted => assert!(self.prox.insert(k), "Begin twice: {ev:?}"),
+                    ProximityPersisted => {
                         assert!(self.prox.contains(&k), "Persist without Begin: {ev:?}")
                     }
-                    ProximityEnd => {
+                    ProximityStopped => {
                         assert!(
                             !self.touch.contains(&k),
                             "proximity ends inside a touch: {ev:?}"
                         );
                         assert!(self.prox.remove(&k), "End without Begin: {ev:?}")
                     }
-                    TouchBegin => {
+                    ContactStarted => {
                         assert!(
                             !self.proximity || self.prox.contains(&k),
                             "touch outside proximity: {ev:?}"
                         );
-                        assert!(self.touch.insert(k), "TouchBegin twice: {ev:?}")
+                        assert!(self.touch.insert(k), "ContactStarted twice: {ev:?}")
                     }
-                    TouchPersist => assert!(
+                    ContactPersisted => assert!(
                         self.touch.contains(&k),
-                        "TouchPersist without Begin: {ev:?}"
+                        "ContactPersisted without Begin: {ev:?}"
                     ),
-                    TouchEnd => assert!(self.touch.remove(&k), "TouchEnd without Begin: {ev:?}"),
+                    ContactStopped => assert!(self.touch.remove(&k), "ContactStopped without Begin: {ev:?}"),
                     _ => unreachable!(),
                 }
             }
-            TriggerEnter => assert!(
+            SensorStarted => assert!(
                 self.inside.insert((ev.a, ev.b.unwrap())),
                 "Enter twice: {ev:?}"
             ),
-            TriggerExit => assert!(
+            SensorStopped => assert!(
                 self.inside.remove(&(ev.a, ev.b.unwrap())),
                 "Exit without Enter: {ev:?}"
             ),
@@ -189,7 +189,7 @@ impl ContractLog {
                 }
                 EdgeKind::Geometric => {
                     let (t, b) = if g.node(e.a()).unwrap().kind()
-                        == rapier_contact_graph::NodeKind::Trigger
+                        == rapier_contact_graph::NodeKind::Sensor
                     {
                         (e.a(), e.b())
                     } else {

@@ -30,7 +30,7 @@ impl Harness {
             .graph()
             .nodes()
             .filter(|(_, n)| {
-                n.kind().category() == Category::Physical || n.kind() == NodeKind::Trigger
+                n.kind().category() == Category::Physical || n.kind() == NodeKind::Sensor
             })
             .map(|(id, _)| id)
             .collect();
@@ -436,7 +436,7 @@ impl Harness {
                 let mut rigid: Vec<NodeId> = self
                     .layer
                     .graph()
-                    .nodes_of_kind(NodeKind::Rigid)
+                    .nodes_of_kind(NodeKind::Dynamic)
                     .map(|(id, _)| id)
                     .collect();
                 rigid.sort();

@@ -56,7 +56,7 @@ impl Contract {
             ));
         }
         let g = layer.graph();
-        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        let is_end = matches!(ev.kind, ProximityStopped | ContactStopped | SensorStopped);
         for n in [Some(ev.a), ev.b].into_iter().flatten() {
             if !is_end && in_force.passive.contains(&n) {
                 return bad("names a passive body");
@@ -64,8 +64,8 @@ impl Contract {
         }
         let pair_ignored = |a: NodeId, b: NodeId| in_force.rules.iter().any(|r| r.ignores(a, b));
         match ev.kind {
-            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
-            | TouchEnd => {
+            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted | ContactPersisted
+            | ContactStopped => {
                 let Some(b) = ev.b else {
                     return bad("pair event without b");
                 };
@@ -77,58 +77,58 @@ impl Contract {
                     return bad("Begin/Persist for a pair a rule in force ignores");
                 }
                 match ev.kind {
-                    ProximityBegin => {
+                    ProximityStarted => {
                         if !self.prox.insert(k) {
-                            return bad("ProximityBegin twice");
+                            return bad("ProximityStarted twice");
                         }
                     }
-                    ProximityPersist => {
+                    ProximityPersisted => {
                         if !self.prox.contains(&k) {
-                            return bad("ProximityPersist without Begin");
+                            return bad("ProximityPersisted without Begin");
                         }
                     }
-                    ProximityEnd => {
+                    ProximityStopped => {
                         if self.touch.contains(&k) {
                             return bad("proximity ends inside a touch");
                         }
                         if !self.prox.remove(&k) {
-                            return bad("ProximityEnd without Begin");
+                            return bad("ProximityStopped without Begin");
                         }
                     }
-                    TouchBegin => {
+                    ContactStarted => {
                         if self.proximity && !self.prox.contains(&k) {
                             return bad("touch outside proximity");
                         }
                         if !self.touch.insert(k) {
-                            return bad("TouchBegin twice");
+                            return bad("ContactStarted twice");
                         }
                     }
-                    TouchPersist => {
+                    ContactPersisted => {
                         if !self.touch.contains(&k) {
-                            return bad("TouchPersist without Begin");
+                            return bad("ContactPersisted without Begin");
                         }
                     }
-                    TouchEnd => {
+                    ContactStopped => {
                         if !self.touch.remove(&k) {
-                            return bad("TouchEnd without Begin");
+                            return bad("ContactStopped without Begin");
                         }
                     }
                     _ => unreachable!(),
                 }
-                if matches!(ev.kind, ProximityPersist | TouchPersist) {
+                if matches!(ev.kind, ProximityPersisted | ContactPersisted) {
                     let awake = |n| g.node(n).is_some_and(|n| n.is_awake());
                     if !awake(ev.a) && !awake(b) {
                         return bad("Persist for a pair without an awake body");
                     }
                 }
             }
-            TriggerEnter | TriggerExit => {
+            SensorStarted | SensorStopped => {
                 let Some(b) = ev.b else {
                     return bad("trigger event without b");
                 };
-                if ev.kind == TriggerEnter {
+                if ev.kind == SensorStarted {
                     if pair_ignored(ev.a, b) {
-                        return bad("TriggerEnter for a pair a rule in force ignores");
+                        return bad("SensorStarted for a pair a rule in force ignores");
                     }
                     if !self.inside.insert((ev.a, b)) {
                         return bad("Enter twice");
@@ -174,7 +174,7 @@ impl Contract {
                     }
                 }
                 EdgeKind::Geometric => {
-                    let t_is_a = g.node(e.a()).is_some_and(|n| n.kind() == NodeKind::Trigger);
+                    let t_is_a = g.node(e.a()).is_some_and(|n| n.kind() == NodeKind::Sensor);
                     inside.insert(if t_is_a {
                         (e.a(), e.b())
                     } else {
