@@ -39,8 +39,8 @@ fn main() {
         let step = stats.step;
         for ev in touch.try_iter() {
             let (a, b) = (
-                name(&scene, &layer, ev.a),
-                ev.b.map_or("-", |b| name(&scene, &layer, b)),
+                name(&scene, &layer, ev.node1),
+                ev.node2.map_or("-", |b| name(&scene, &layer, b)),
             );
             println!(
                 "  step {:>3}  {:<10} {a} - {b}",

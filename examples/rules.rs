@@ -75,8 +75,8 @@ fn main() {
                 "step {:>3}  {:<10} {:<6} {:<6} (top at y = {:.2})",
                 ev.step,
                 format!("{:?}", ev.kind),
-                name(ev.body_a),
-                name(ev.body_b),
+                name(ev.body1),
+                name(ev.body2),
                 top_y(&world)
             );
         }

@@ -31,8 +31,8 @@ fn print(scene: &Scene, layer: &ContactLayer, ev: &Event, dt: f64) {
         ev.step,
         ev.step as f64 * dt,
         format!("{:?}", ev.kind),
-        name(scene, layer, ev.a),
-        ev.b.map_or("-".into(), |b| name(scene, layer, b)),
+        name(scene, layer, ev.node1),
+        ev.node2.map_or("-".into(), |b| name(scene, layer, b)),
     );
 }
 
@@ -46,8 +46,11 @@ fn main() {
     layer.step(&mut scene.world);
     let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
     let touches = layer.subscribe(
-        Filter::kinds(KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped]))
-            .with_nodes(&[ball]),
+        Filter::kinds(KindSet::of(&[
+            EventKind::ContactStarted,
+            EventKind::ContactStopped,
+        ]))
+        .with_nodes(&[ball]),
     );
     let trigger_body = layer.node_of_body(scene.body("trigger").unwrap()).unwrap();
     for (id, node) in layer

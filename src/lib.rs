@@ -79,7 +79,7 @@
 //! }
 //! let first = touches.try_iter().next().unwrap();
 //! assert_eq!(first.kind, EventKind::ContactStarted);
-//! assert!(first.body_a == Some(ball) || first.body_b == Some(ball));
+//! assert!(first.body1 == Some(ball) || first.body2 == Some(ball));
 //! ```
 //! Kinds come in Started / Persisted / Stopped spans (the listener contract of
 //! [`events`]); every event carries the Rapier handles of what it names. Subscribe
@@ -95,7 +95,7 @@
 //! | a contact's normal and impulses | [`ContactLayer::contact_details`], [`ContactLayer::supports_of_body`] |
 //! | `narrow_phase.intersection_pairs_with(sensor)` | [`ContactLayer::sensor_contents`], [`ContactLayer::sensors_containing`] |
 //! | `CollisionEvent::Started` / `Stopped` | `ContactStarted` / `ContactStopped`, `SensorStarted` / `SensorStopped` ([`EventKind`]) |
-//! | `collider1` / `collider2` | [`Event::collider_a`] / [`Event::collider_b`], and [`Event::body_a`] / [`Event::body_b`] |
+//! | `collider1` / `collider2` | [`Event::collider1`] / [`Event::collider2`], and [`Event::body1`] / [`Event::body2`] |
 //! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
 //! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
 //! | dynamic / kinematic / fixed body | node kinds `Dynamic` / `Kinematic` / `Fixed` ([`NodeKind`]) |

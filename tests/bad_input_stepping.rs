@@ -128,7 +128,9 @@ fn bug_step_remove_and_insert_leaves_ghost_node() {
     ball_at(&mut world, [20.0, 5.0, 0.0], 0.5);
     layer.step(&mut world);
     assert!(
-        events.try_iter().any(|e| e.kind == EventKind::ContactStopped),
+        events
+            .try_iter()
+            .any(|e| e.kind == EventKind::ContactStopped),
         "removing a body ends its spans (events contract)"
     );
     layer.validate(&world).unwrap();

@@ -48,7 +48,7 @@ fn run(tracking: Tracking) {
         let want_a: Vec<Event> = step
             .iter()
             .filter(|e| KindSet::CONTACT.contains(e.kind))
-            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a))
+            .filter(|e| e.body1 == Some(a) || e.body2 == Some(a))
             .copied()
             .collect();
         assert_eq!(got_a, want_a);
@@ -62,7 +62,7 @@ fn run(tracking: Tracking) {
         let want_sensor: Vec<Event> = step
             .iter()
             .filter(|e| KindSet::SENSOR.contains(e.kind))
-            .filter(|e| e.collider_a == Some(sensor))
+            .filter(|e| e.collider1 == Some(sensor))
             .copied()
             .collect();
         assert_eq!(got_sensor, want_sensor);
@@ -73,10 +73,10 @@ fn run(tracking: Tracking) {
     assert!(seen_a.iter().any(|e| e.kind == EventKind::ContactStarted));
     assert!(seen_a
         .iter()
-        .all(|e| e.body_a != Some(b) && e.body_b != Some(b)));
+        .all(|e| e.body1 != Some(b) && e.body2 != Some(b)));
     // Ball b fell through the sensor: it entered, then left.
     let kinds: Vec<(EventKind, Option<RigidBodyHandle>)> =
-        seen_sensor.iter().map(|e| (e.kind, e.body_b)).collect();
+        seen_sensor.iter().map(|e| (e.kind, e.body2)).collect();
     assert_eq!(
         kinds,
         [
@@ -110,7 +110,7 @@ fn body_and_collider_restrictions_add_up() {
         layer.validate(&world).unwrap();
         let want: Vec<Event> = all
             .try_iter()
-            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a) || e.collider_a == Some(sensor))
+            .filter(|e| e.body1 == Some(a) || e.body2 == Some(a) || e.collider1 == Some(sensor))
             .collect();
         let got: Vec<Event> = both.try_iter().collect();
         assert_eq!(got, want);
@@ -118,12 +118,12 @@ fn body_and_collider_restrictions_add_up() {
         // Ball b's own touch with the ground is in neither restriction.
         assert!(got
             .iter()
-            .all(|e| e.collider_a == Some(sensor) || (e.body_b != Some(b) && e.body_a != Some(b))));
+            .all(|e| e.collider1 == Some(sensor) || (e.body2 != Some(b) && e.body1 != Some(b))));
     }
     assert!(n > 0);
 }
 
-/// A touch begins with its contact normal (from `a` to `b`) and the solver's normal
+/// A touch begins with its contact normal (from `node1` to `node2`) and the solver's normal
 /// impulse: the ball landing on the ground is pushed up. Proximity tracking copies
 /// them from the edge, touching tracking and details off read them from Rapier: the
 /// three twin worlds give the same bits.
@@ -134,8 +134,8 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
         let mut layer = ContactLayer::new();
         layer.set_tracking(tracking);
         layer.set_contact_details(details);
-        let rx =
-            layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])).with_bodies(&[a]));
+        let rx = layer
+            .subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])).with_bodies(&[a]));
         for _ in 0..120 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -146,7 +146,7 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
     assert_eq!(copied.len(), 1, "the ball lands once: {copied:?}");
     let e = copied[0];
     // The ground (inserted first) is the pair's A: the normal points up, into the ball.
-    assert_eq!(e.body_b, Some(scene().1));
+    assert_eq!(e.body2, Some(scene().1));
     assert!(e.normal.y > 0.99, "normal {:?}", e.normal);
     assert!(e.impulse > 0.0, "impulse {}", e.impulse);
     for (tracking, details) in [(Tracking::Touching, true), (Tracking::Proximity, false)] {

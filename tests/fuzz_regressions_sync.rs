@@ -110,7 +110,7 @@ fn sleep_events(
     body: RigidBodyHandle,
 ) -> Vec<rapier_contact_graph::EventKind> {
     rx.try_iter()
-        .filter(|e| e.body_a == Some(body))
+        .filter(|e| e.body1 == Some(body))
         .map(|e| e.kind)
         .collect()
 }
@@ -148,7 +148,7 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
     }
     let kinds: Vec<EventKind> = rx
         .try_iter()
-        .filter(|e| e.body_a == Some(ball))
+        .filter(|e| e.body1 == Some(ball))
         .map(|e| e.kind)
         .collect();
     // Failed before the fix: [FellAsleep, WokeUp, WokeUp]: fixation turns the node Fixed (no

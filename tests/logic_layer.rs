@@ -274,7 +274,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
         let b = layer.node_of_body(scene.body(body).unwrap()).unwrap();
         log.events
             .iter()
-            .any(|e| e.kind == EventKind::SensorStarted && e.a == t && e.b == Some(b))
+            .any(|e| e.kind == EventKind::SensorStarted && e.node1 == t && e.node2 == Some(b))
     };
     assert!(entered(zone_t, "ball"), "dynamic through a fixed trigger");
     assert!(
@@ -297,12 +297,12 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     let exited = log
         .events
         .iter()
-        .any(|e| e.kind == EventKind::SensorStopped && e.a == zone_t);
+        .any(|e| e.kind == EventKind::SensorStopped && e.node1 == zone_t);
     assert!(exited, "the slider leaves the zone");
     assert!(
         !log.events
             .iter()
-            .any(|e| e.a == zone_t && e.b == Some(carrier_t)),
+            .any(|e| e.node1 == zone_t && e.node2 == Some(carrier_t)),
         "trigger–trigger ignored"
     );
     insta::assert_snapshot!(

@@ -189,8 +189,8 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
         .collect();
     assert_eq!(escapes.len(), 1, "{escapes:?}");
     assert_eq!(escapes[0].violation, Some(ViolationKind::Escape));
-    assert_eq!(escapes[0].a, node);
-    assert_eq!(escapes[0].body_a, Some(victim));
+    assert_eq!(escapes[0].node1, node);
+    assert_eq!(escapes[0].body1, Some(victim));
     // Isolated: disabled in Rapier, a passive node without edges or group; the node
     // and its handle are kept, and every other node is still there.
     assert!(!scene.world.bodies[victim].is_enabled());

@@ -38,7 +38,10 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
     assert!(contact.normal_impulse > 0.0);
     let events: Vec<_> = touches.try_iter().collect();
     // One landing: it begins and never ends (a bounce would add an end and a begin).
-    assert_eq!(events.first().map(|e| e.kind), Some(EventKind::ContactStarted));
+    assert_eq!(
+        events.first().map(|e| e.kind),
+        Some(EventKind::ContactStarted)
+    );
     assert!(events.first().is_some_and(|e| e.normal.y.abs() > 0.99));
     assert_eq!(events.len() % 2, 1, "{events:?}");
     Ok(())

@@ -46,10 +46,15 @@ fn touch_set(layer: &ContactLayer) -> BTreeSet<(u8, (u32, u32), (u32, u32))> {
     layer
         .last_events()
         .iter()
-        .filter(|e| matches!(e.kind, EventKind::ContactStarted | EventKind::ContactStopped))
+        .filter(|e| {
+            matches!(
+                e.kind,
+                EventKind::ContactStarted | EventKind::ContactStopped
+            )
+        })
         .map(|e| {
-            let a = e.body_a.map_or((u32::MAX, 0), |h| h.into_raw_parts());
-            let b = e.body_b.map_or((u32::MAX, 0), |h| h.into_raw_parts());
+            let a = e.body1.map_or((u32::MAX, 0), |h| h.into_raw_parts());
+            let b = e.body2.map_or((u32::MAX, 0), |h| h.into_raw_parts());
             (e.kind as u8, a.min(b), a.max(b))
         })
         .collect()
@@ -102,10 +107,10 @@ fn touch_events_are_those_of_proximity_tracking() {
             "{name}"
         );
         // No proximity events, no persist events, in touching tracking.
-        assert!(touching
-            .last_events()
-            .iter()
-            .all(|e| !matches!(e.kind, EventKind::ProximityStarted | EventKind::ProximityStopped)));
+        assert!(touching.last_events().iter().all(|e| !matches!(
+            e.kind,
+            EventKind::ProximityStarted | EventKind::ProximityStopped
+        )));
     }
 }
 

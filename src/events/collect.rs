@@ -83,8 +83,8 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
         if wanted.contains(kind) {
             let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
-            e.collider_a = m.collider(a);
-            e.collider_b = b.and_then(|b| m.collider(b));
+            e.collider1 = m.collider(a);
+            e.collider2 = b.and_then(|b| m.collider(b));
             if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) = (kind, b) {
                 (e.normal, e.impulse) = m.contact(a, b);
             }
@@ -159,7 +159,9 @@ fn edge_events(
             };
             match e.proximity_mark(step) {
                 Some(Transition::New) => push(EventKind::SensorStarted, trigger, Some(body), 0),
-                Some(Transition::Vanished) => push(EventKind::SensorStopped, trigger, Some(body), 0),
+                Some(Transition::Vanished) => {
+                    push(EventKind::SensorStopped, trigger, Some(body), 0)
+                }
                 _ => {}
             }
         }

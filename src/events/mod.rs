@@ -6,8 +6,10 @@
 //!   step, so a receiver may read the graph (through the layer) while handling events.
 //! - **Which step.** Every event carries the index of the step it describes
 //!   ([`crate::ContactLayer::current_step`] right after that step).
-//! - **Pairs.** `a` is the node with the smaller slot index (the paper's *A*), `b`
-//!   the other; for trigger events `a` is the trigger and `b` the body.
+//! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
+//!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
+//!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
+//!   `collider1` / `collider2` name a pair's two colliders.
 //! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
 //!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
 //!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
@@ -93,11 +95,11 @@ pub enum EventKind {
     /// A body woke up.
     WokeUp = 10,
     /// The plausibility monitor found a violation (paper §8):
-    /// `a` is the body's node, `violation` the kind, `value` the measure. Sent only
+    /// `node1` is the body's node, `violation` the kind, `value` the measure. Sent only
     /// with the layer's monitor in report or repair mode
     /// ([`crate::ContactLayer::set_monitor`]).
     Violation = 11,
-    /// The monitor in repair mode acted to prevent a violation: `a` is the body's
+    /// The monitor in repair mode acted to prevent a violation: `node1` is the body's
     /// node, `violation` the kind it prevents, `value` the measure when it acted
     /// (seconds unsupported; excess joules; for a deep penetration, the depth as a
     /// fraction of the limit).
@@ -108,7 +110,10 @@ pub enum EventKind {
 #[allow(non_upper_case_globals)]
 impl EventKind {
     /// Renamed to [`EventKind::ProximityStarted`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ProximityStarted, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ProximityStarted, Rapier's name"
+    )]
     pub const ProximityBegin: EventKind = EventKind::ProximityStarted;
     /// Renamed to [`EventKind::ProximityPersisted`].
     #[deprecated(
@@ -117,22 +122,40 @@ impl EventKind {
     )]
     pub const ProximityPersist: EventKind = EventKind::ProximityPersisted;
     /// Renamed to [`EventKind::ProximityStopped`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ProximityStopped, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ProximityStopped, Rapier's name"
+    )]
     pub const ProximityEnd: EventKind = EventKind::ProximityStopped;
     /// Renamed to [`EventKind::ContactStarted`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactStarted, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ContactStarted, Rapier's name"
+    )]
     pub const TouchBegin: EventKind = EventKind::ContactStarted;
     /// Renamed to [`EventKind::ContactPersisted`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactPersisted, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ContactPersisted, Rapier's name"
+    )]
     pub const TouchPersist: EventKind = EventKind::ContactPersisted;
     /// Renamed to [`EventKind::ContactStopped`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::ContactStopped, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::ContactStopped, Rapier's name"
+    )]
     pub const TouchEnd: EventKind = EventKind::ContactStopped;
     /// Renamed to [`EventKind::SensorStarted`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::SensorStarted, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::SensorStarted, Rapier's name"
+    )]
     pub const TriggerEnter: EventKind = EventKind::SensorStarted;
     /// Renamed to [`EventKind::SensorStopped`].
-    #[deprecated(since = "0.2.0", note = "renamed to EventKind::SensorStopped, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to EventKind::SensorStopped, Rapier's name"
+    )]
     pub const TriggerExit: EventKind = EventKind::SensorStopped;
 }
 
@@ -262,6 +285,12 @@ impl From<EventKind> for KindSet {
 
 /// One event. `Copy`, at most 112 bytes: cheap to send (checked by a unit test).
 ///
+/// The two things an event names are `1` and `2`, as Rapier's `collider1` /
+/// `collider2` (the paper's *A* and *B*): [`Self::node1`] / [`Self::node2`], their
+/// bodies [`Self::body1`] / [`Self::body2`] and colliders [`Self::collider1`] /
+/// [`Self::collider2`]. (Named `a` / `b`, `body_a` / `body_b`, `collider_a` /
+/// `collider_b` before 0.2; serialised events with those names still load.)
+///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -270,24 +299,31 @@ pub struct Event {
     pub step: u64,
     /// What happened.
     pub kind: EventKind,
-    /// The pair's *A* node, the trigger, the timer, or the body that slept or woke.
-    pub a: NodeId,
-    /// The pair's *B* node, or the body entering or leaving the trigger.
-    pub b: Option<NodeId>,
-    /// The Rapier body of `a`, if it is (or was) a body; for a trigger, the body
+    /// The pair's first node (the paper's *A*: the smaller slot index), the sensor,
+    /// the timer, or the body that slept or woke.
+    #[cfg_attr(feature = "serde", serde(alias = "a"))]
+    pub node1: NodeId,
+    /// The pair's second node (the paper's *B*), or the body entering or leaving the
+    /// sensor.
+    #[cfg_attr(feature = "serde", serde(alias = "b"))]
+    pub node2: Option<NodeId>,
+    /// The Rapier body of `node1`, if it is (or was) a body; for a sensor, the body
     /// carrying its sensor collider.
-    pub body_a: Option<RigidBodyHandle>,
-    /// The Rapier body of `b`, if it is (or was) a body.
-    pub body_b: Option<RigidBodyHandle>,
-    /// The collider `a` stands for, if it stands for one: a trigger's sensor collider
-    /// (so a trigger event names the sensor that fired), or a parentless collider.
-    /// `None` for a body: a body pair aggregates all its collider pairs (read them
-    /// from Rapier's narrow phase with `contact_pair`).
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub collider_a: Option<ColliderHandle>,
-    /// The collider `b` stands for, as [`Self::collider_a`].
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub collider_b: Option<ColliderHandle>,
+    #[cfg_attr(feature = "serde", serde(alias = "body_a"))]
+    pub body1: Option<RigidBodyHandle>,
+    /// The Rapier body of `node2`, if it is (or was) a body.
+    #[cfg_attr(feature = "serde", serde(alias = "body_b"))]
+    pub body2: Option<RigidBodyHandle>,
+    /// The collider `node1` stands for, if it stands for one, as Rapier's `collider1`:
+    /// a sensor collider (so a sensor event names the sensor that fired), or a
+    /// parentless collider. `None` for a body: a body pair aggregates all its
+    /// collider pairs (read them from Rapier's narrow phase with `contact_pair`).
+    #[cfg_attr(feature = "serde", serde(default, alias = "collider_a"))]
+    pub collider1: Option<ColliderHandle>,
+    /// The collider `node2` stands for, as Rapier's `collider2`; see
+    /// [`Self::collider1`].
+    #[cfg_attr(feature = "serde", serde(default, alias = "collider_b"))]
+    pub collider2: Option<ColliderHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
     pub tick: u64,
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the kind of
@@ -296,16 +332,17 @@ pub struct Event {
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
     /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
-    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the normal of the
-    /// pair's deepest contact in the step, a unit vector pointing from `a` towards `b`
-    /// (`b` is pushed along it); zero for other kinds, or when Rapier had no contact
-    /// point. Read from the edge's per-step details, or from Rapier's narrow phase
-    /// when those are not kept (touching tracking, details off).
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the
+    /// normal of the pair's deepest contact in the step, a unit vector pointing from
+    /// `node1` towards `node2` (`node2` is pushed along it); zero for other kinds, or
+    /// when Rapier had no contact point. Read from the edge's per-step details, or
+    /// from Rapier's narrow phase when those are not kept (touching tracking, details
+    /// off).
     #[cfg_attr(feature = "serde", serde(default))]
     pub normal: Vector,
-    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the sum of the
-    /// normal impulses Rapier's solver applied to the pair's contacts in the step
-    /// (N·s); 0 otherwise.
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the sum
+    /// of the normal impulses Rapier's solver applied to the pair's contacts in the
+    /// step (N·s); 0 otherwise.
     #[cfg_attr(feature = "serde", serde(default))]
     pub impulse: Real,
 }
@@ -315,21 +352,21 @@ impl Event {
     pub(crate) fn plain(
         step: u64,
         kind: EventKind,
-        a: NodeId,
-        b: Option<NodeId>,
-        body_a: Option<RigidBodyHandle>,
-        body_b: Option<RigidBodyHandle>,
+        node1: NodeId,
+        node2: Option<NodeId>,
+        body1: Option<RigidBodyHandle>,
+        body2: Option<RigidBodyHandle>,
         tick: u64,
     ) -> Self {
         Self {
             step,
             kind,
-            a,
-            b,
-            body_a,
-            body_b,
-            collider_a: None,
-            collider_b: None,
+            node1,
+            node2,
+            body1,
+            body2,
+            collider1: None,
+            collider2: None,
             tick,
             violation: None,
             value: 0.0,
@@ -342,12 +379,12 @@ impl Event {
         (
             self.step,
             self.kind,
-            self.a,
-            self.b,
-            self.body_a,
-            self.body_b,
-            self.collider_a,
-            self.collider_b,
+            self.node1,
+            self.node2,
+            self.body1,
+            self.body2,
+            self.collider1,
+            self.collider2,
             self.tick,
             self.violation,
             (
@@ -377,14 +414,14 @@ impl std::hash::Hash for Event {
 /// by Rapier handle or by node.
 ///
 /// - [`Self::with_bodies`]: events naming one of the bodies in
-///   [`Event::body_a`] or [`Event::body_b`]: its touches, the triggers it enters and
-///   leaves, its sleep, the monitor's reports on it, and the trigger events of
-///   sensors it carries (a trigger's `body_a` is its carrier).
+///   [`Event::body1`] or [`Event::body2`]: its contacts, the sensors it enters and
+///   leaves, its sleep, the monitor's reports on it, and the sensor events of
+///   sensors it carries (a sensor event's `body1` is its carrier).
 /// - [`Self::with_colliders`]: events naming one of the colliders in
-///   [`Event::collider_a`] or [`Event::collider_b`]: a sensor's trigger events, a
+///   [`Event::collider1`] or [`Event::collider2`]: a sensor's events, a
 ///   parentless collider's touches. A body's own colliders are not named by its
 ///   events (a body pair aggregates its collider pairs): filter by its body.
-/// - [`Self::with_nodes`]: events whose `a` or `b` is one of the nodes, or a member
+/// - [`Self::with_nodes`]: events whose `node1` or `node2` is one of the nodes, or a member
 ///   of one of them (a container node matches the events of its bodies); for what has
 ///   no Rapier handle (rules, timers, containers).
 ///
@@ -461,12 +498,7 @@ impl Filter {
         }
         let body = |h| holds(self.bodies.as_deref(), h, RigidBodyHandle::into_raw_parts);
         let collider = |c| holds(self.colliders.as_deref(), c, ColliderHandle::into_raw_parts);
-        Some(
-            body(ev.body_a)
-                || body(ev.body_b)
-                || collider(ev.collider_a)
-                || collider(ev.collider_b),
-        )
+        Some(body(ev.body1) || body(ev.body2) || collider(ev.collider1) || collider(ev.collider2))
     }
     /// Adds a kind.
     pub fn or_kind(mut self, kind: EventKind) -> Self {

@@ -65,7 +65,10 @@ impl NodeKind {
     #[deprecated(since = "0.2.0", note = "renamed to NodeKind::Dynamic, Rapier's name")]
     pub const Rigid: NodeKind = NodeKind::Dynamic;
     /// Renamed to [`NodeKind::Kinematic`].
-    #[deprecated(since = "0.2.0", note = "renamed to NodeKind::Kinematic, Rapier's name")]
+    #[deprecated(
+        since = "0.2.0",
+        note = "renamed to NodeKind::Kinematic, Rapier's name"
+    )]
     pub const Scripted: NodeKind = NodeKind::Kinematic;
     /// Renamed to [`NodeKind::Sensor`].
     #[deprecated(since = "0.2.0", note = "renamed to NodeKind::Sensor, Rapier's name")]

@@ -78,17 +78,21 @@ impl ContractLog {
         self.last_step = ev.step;
         let is_end = matches!(ev.kind, ProximityStopped | ContactStopped | SensorStopped);
         let is_monitor = matches!(ev.kind, Violation | Repaired);
-        for n in [Some(ev.a), ev.b].into_iter().flatten() {
+        for n in [Some(ev.node1), ev.node2].into_iter().flatten() {
             assert!(
                 is_end || is_monitor || !self.passive.contains(&n),
                 "event naming passive node {n:?}: {ev:?}"
             );
         }
         match ev.kind {
-            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted | ContactPersisted
-            | ContactStopped => {
-                let k = key(ev.a, ev.b);
-                assert_eq!(k, (ev.a, ev.b.unwrap()), "pair events name A first: {ev:?}");
+            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted
+            | ContactPersisted | ContactStopped => {
+                let k = key(ev.node1, ev.node2);
+                assert_eq!(
+                    k,
+                    (ev.node1, ev.node2.unwrap()),
+                    "pair events name A first: {ev:?}"
+                );
                 assert!(
                     !self.excluded.contains(&k),
                     "event for an excluded pair: {ev:?}"
@@ -116,29 +120,32 @@ impl ContractLog {
                         self.touch.contains(&k),
                         "ContactPersisted without Begin: {ev:?}"
                     ),
-                    ContactStopped => assert!(self.touch.remove(&k), "ContactStopped without Begin: {ev:?}"),
+                    ContactStopped => assert!(
+                        self.touch.remove(&k),
+                        "ContactStopped without Begin: {ev:?}"
+                    ),
                     _ => unreachable!(),
                 }
             }
             SensorStarted => assert!(
-                self.inside.insert((ev.a, ev.b.unwrap())),
+                self.inside.insert((ev.node1, ev.node2.unwrap())),
                 "Enter twice: {ev:?}"
             ),
             SensorStopped => assert!(
-                self.inside.remove(&(ev.a, ev.b.unwrap())),
+                self.inside.remove(&(ev.node1, ev.node2.unwrap())),
                 "Exit without Enter: {ev:?}"
             ),
             TimerTick => {
-                let last = self.ticks.entry(ev.a).or_insert(0);
+                let last = self.ticks.entry(ev.node1).or_insert(0);
                 assert_eq!(ev.tick, *last + 1, "ticks skip: {ev:?}");
                 *last = ev.tick;
             }
             FellAsleep => {
-                let was = self.asleep.insert(ev.a, true);
+                let was = self.asleep.insert(ev.node1, true);
                 assert_ne!(was, Some(true), "FellAsleep twice: {ev:?}");
             }
             WokeUp => {
-                let was = self.asleep.insert(ev.a, false);
+                let was = self.asleep.insert(ev.node1, false);
                 assert_ne!(was, Some(false), "WokeUp twice: {ev:?}");
             }
             Violation | Repaired => {
@@ -147,7 +154,7 @@ impl ContractLog {
                     "monitor event without a kind: {ev:?}"
                 );
                 assert!(
-                    ev.b.is_none() && ev.body_a.is_some(),
+                    ev.node2.is_none() && ev.body1.is_some(),
                     "names one body: {ev:?}"
                 );
                 assert!(ev.value.is_finite(), "measure not finite: {ev:?}");
