@@ -29,7 +29,7 @@ fn show(scene: &Scene, layer: &ContactLayer, ball: NodeId, when: &str) {
     println!(
         "{when:<17} node {ball} {:?}: passive {}, edges {}, group {members:?}; enabled {}, y {:.3}",
         node.kind(),
-        node.is_passive(),
+        node.is_body_disabled(),
         node.degree(),
         rb.is_enabled(),
         rb.translation().y,
@@ -56,12 +56,12 @@ fn main() {
         match step {
             100 => {
                 show(&scene, &layer, ball, "before step 101:");
-                layer.set_passive(ball_body, true).unwrap();
-                println!("-- set_passive(ball, true)");
+                layer.set_body_disabled(ball_body, true).unwrap();
+                println!("-- set_body_disabled(ball, true)");
             }
             150 => {
-                layer.set_passive(ball_body, false).unwrap();
-                println!("-- set_passive(ball, false)");
+                layer.set_body_disabled(ball_body, false).unwrap();
+                println!("-- set_body_disabled(ball, false)");
             }
             _ => {}
         }

@@ -99,7 +99,7 @@
 //! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
 //! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
 //! | dynamic / kinematic / fixed body | node kinds `Dynamic` / `Kinematic` / `Fixed` ([`NodeKind`]) |
-//! | a disabled body | a passive body ([`ContactLayer::set_passive`]) |
+//! | a disabled body | a passive body ([`ContactLayer::set_body_disabled`]) |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
 //!
 //! # The report's sections, for readers of the paper

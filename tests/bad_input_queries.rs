@@ -146,7 +146,7 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
         (Error::Invariant("x".into()), "invariant"),
         (
             Error::Unsupported {
-                what: "set_passive(true) on a multibody link",
+                what: "set_body_disabled(true) on a multibody link",
                 reason: "Rapier panics",
             },
             "multibody link is not supported: Rapier panics",

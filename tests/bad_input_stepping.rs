@@ -168,7 +168,7 @@ fn bug_step_huge_dt_misses_pairs() {
 #[test]
 fn pre_step_with_a_foreign_world_and_twice() {
     let (mut world, ground, ball, mut layer) = stepped(3);
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     let (g, b) = (
         layer.node_of_body(ground).unwrap(),
         layer.node_of_body(ball).unwrap(),
@@ -387,7 +387,10 @@ fn wrong_time_calls_before_the_first_step() {
     let mut layer = ContactLayer::new();
     // The layer has not seen the world yet: bodies are unknown, not an absent value.
     assert_eq!(layer.node_of_body(ball), Err(Error::UnknownBody(ball)));
-    assert_eq!(layer.set_passive(ball, true), Err(Error::UnknownBody(ball)));
+    assert_eq!(
+        layer.set_body_disabled(ball, true),
+        Err(Error::UnknownBody(ball))
+    );
     assert!(Error::UnknownBody(ball)
         .to_string()
         .contains("not seen by the layer yet"));

@@ -197,9 +197,9 @@ fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
         layer.step(&mut world);
     }
     assert!(world.bodies[ball].is_sleeping()); // FellAsleep sent
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     layer.step(&mut world);
-    layer.set_passive(ball, false).unwrap();
+    layer.set_body_disabled(ball, false).unwrap();
     for _ in 0..200 {
         layer.step(&mut world); // re-enabled awake, then asleep again
     }

@@ -221,7 +221,7 @@ fn fixed_a_sensor_on_a_passive_body_ends_its_edge_when_moved() {
     let (carrier, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(carrier, true).unwrap();
+    layer.set_body_disabled(carrier, true).unwrap();
     layer.step(&mut world);
     // A sensor added to the passive body, inside the floor.
     let sensor = world.insert_collider(ColliderBuilder::ball(0.8).sensor(true), Some(carrier));

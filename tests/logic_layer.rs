@@ -88,7 +88,10 @@ fn bad_logical_input_is_an_error_and_changes_nothing() {
         Err(Error::WrongKind { .. })
     ));
     let gone = RigidBodyHandle::from_raw_parts(77, 0);
-    assert_eq!(layer.set_passive(gone, true), Err(Error::UnknownBody(gone)));
+    assert_eq!(
+        layer.set_body_disabled(gone, true),
+        Err(Error::UnknownBody(gone))
+    );
     assert!(layer.declare_composite(&[]).is_err());
     let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
     assert!(matches!(
@@ -176,23 +179,23 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
     let h = scene.body("ball").unwrap();
     let ball = layer.node_of_body(h).unwrap();
     scene.world.bodies[h].user_data = 42;
-    layer.set_passive(h, true).unwrap();
+    layer.set_body_disabled(h, true).unwrap();
     common::run_validated(&mut scene, &mut layer, 80, 1);
     log.drain();
     log.passive.insert(ball);
     let node = layer.graph().node(ball).unwrap();
-    assert!(node.is_passive());
+    assert!(node.is_body_disabled());
     assert_eq!(node.degree(), 0, "no edges while passive");
     common::run_validated(&mut scene, &mut layer, 81, 100);
     log.drain();
     assert_eq!(layer.node_of_body(h), Ok(ball), "same node, same handle");
     assert_eq!(scene.world.bodies[h].user_data, 42);
-    layer.set_passive(h, false).unwrap();
+    layer.set_body_disabled(h, false).unwrap();
     log.passive.clear();
     common::run_validated(&mut scene, &mut layer, 181, 100);
     log.drain();
     log.agrees_with(&layer);
-    assert!(!layer.graph().node(ball).unwrap().is_passive());
+    assert!(!layer.graph().node(ball).unwrap().is_body_disabled());
     assert!(layer.graph().touching(ball).count() > 0, "back on the box");
     insta::assert_snapshot!(
         "passive_toggle_events",

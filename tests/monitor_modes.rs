@@ -195,7 +195,7 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
     // and its handle are kept, and every other node is still there.
     assert!(!scene.world.bodies[victim].is_enabled());
     let n = layer.graph().node(node).expect("the node is kept");
-    assert!(n.is_passive());
+    assert!(n.is_body_disabled());
     assert_eq!(layer.graph().neighbors(node).count(), 0);
     assert!(n.group().is_none());
     assert_eq!(layer.graph().node_count(), nodes_before);

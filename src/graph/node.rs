@@ -264,11 +264,18 @@ impl Node {
     pub fn born_step(&self) -> u64 {
         self.born_step
     }
-    /// Whether the body is passive (disabled in Rapier, paper §3.2): it keeps its node,
-    /// handle and user data, but has no physical or geometric edge.
+    /// Whether the body is disabled (the paper's *passive* body, §3.2: disabled in
+    /// Rapier, by [`crate::ContactLayer::set_body_disabled`] or by the user): it keeps
+    /// its node, handle and user data, but has no physical or geometric edge.
+    #[inline]
+    pub fn is_body_disabled(&self) -> bool {
+        self.passive
+    }
+    /// Renamed to [`Self::is_body_disabled`].
+    #[deprecated(since = "0.2.0", note = "renamed to is_body_disabled, Rapier's word")]
     #[inline]
     pub fn is_passive(&self) -> bool {
-        self.passive
+        self.is_body_disabled()
     }
     /// The contact group the node is in since the last update (`None` for insulators,
     /// logical nodes and bodies not yet grouped).

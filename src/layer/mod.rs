@@ -100,7 +100,7 @@ pub struct StepStats {
 ///   [`Self::removed_edges`], [`Self::removed_nodes`].
 /// - **Rules, timers, passive bodies, containers:** [`Self::add_rule`],
 ///   [`Self::remove_rule`], [`Self::add_timer`], [`Self::remove_timer`],
-///   [`Self::set_passive`], [`Self::declare_composite`].
+///   [`Self::set_body_disabled`], [`Self::declare_composite`].
 /// - **Speed-ups and the monitor:** [`Self::set_speedups`], [`Self::speedups`],
 ///   [`Self::set_monitor`], [`Self::monitor`], [`Self::holds`].
 /// - **Checking and syncing:** [`Self::validate`], [`Self::validate_view`],

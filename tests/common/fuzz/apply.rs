@@ -319,9 +319,9 @@ impl Harness {
                         .and_then(|n| self.layer.graph().node(n))
                         .map(|n| n.kind())
                         == Some(NodeKind::Link);
-                    match self.layer.set_passive(h, on) {
+                    match self.layer.set_body_disabled(h, on) {
                         Ok(()) if on && link => {
-                            return Err(format!("set_passive({h:?}, true) on a link: Ok"))
+                            return Err(format!("set_body_disabled({h:?}, true) on a link: Ok"))
                         }
                         Ok(()) => {
                             self.passive.insert(raw(h), (h, on));
@@ -330,7 +330,7 @@ impl Harness {
                             self.counters.refused += 1;
                         }
                         Err(e) if node.is_some() => {
-                            return Err(format!("set_passive({h:?}, {on}) failed: {e}"))
+                            return Err(format!("set_body_disabled({h:?}, {on}) failed: {e}"))
                         }
                         Err(_) => {}
                     }
