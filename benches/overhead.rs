@@ -212,7 +212,7 @@ fn run(n: usize, steps: usize, touching: bool) -> Outcome {
         nodes: stats.nodes,
         edges: stats.edges,
         touching,
-        groups: stats.groups.groups,
+        groups: stats.groups.count,
         samples: s,
         wall: wall0.elapsed().as_secs_f64(),
     }
