@@ -176,16 +176,9 @@ pub enum BodyState {
     Moving,
 }
 
-/// The name of 0.1, kept as a deprecated alias.
-#[allow(non_upper_case_globals)]
-impl BodyState {
-    /// Renamed to [`BodyState::Disabled`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to BodyState::Disabled, Rapier's word"
-    )]
-    pub const Passive: BodyState = BodyState::Disabled;
-}
+renamed_consts!(BodyState:
+    Passive => Disabled, "renamed to BodyState::Disabled, Rapier's word";
+);
 
 impl BodyState {
     /// Every state, in rule order.

@@ -155,6 +155,25 @@
 
 #![warn(missing_docs)]
 
+/// Deprecated associated consts of `$ty`, one per name of 0.1 (the paper's) that
+/// Rapier's vocabulary replaced: `Old => New, "note";` makes `$ty::Old` an alias of
+/// `$ty::New` (a variant or a const), usable in expressions and, for enums deriving
+/// `PartialEq` and `Eq`, in match patterns. The note is a literal: `deprecated` takes
+/// no macro call.
+macro_rules! renamed_consts {
+    ($ty:ident: $($old:ident => $new:ident, $note:literal;)+) => {
+        /// The names of 0.1, kept as deprecated aliases of Rapier's.
+        #[allow(non_upper_case_globals)]
+        impl $ty {
+            $(
+                #[doc = concat!("Renamed to [`", stringify!($ty), "::", stringify!($new), "`].")]
+                #[deprecated(since = "0.2.0", note = $note)]
+                pub const $old: $ty = $ty::$new;
+            )+
+        }
+    };
+}
+
 pub mod coherence;
 #[cfg(feature = "debug-render")]
 pub mod debug_render;

@@ -4,20 +4,17 @@
 //! working, with deprecation warnings naming the replacement.
 #![allow(deprecated)]
 
+mod common;
+
 use rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet, NodeKind};
 
-/// A ground and a ball resting on it, stepped until the ball touches.
+use common::build::*;
+
+/// A ground and a ball about to land on it.
 fn ball_on_ground() -> (PhysicsWorld, RigidBodyHandle, ContactLayer) {
-    let mut world = PhysicsWorld::new();
-    world.insert(
-        RigidBodyBuilder::fixed(),
-        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
-    );
-    let (ball, _) = world.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.2, 0.0)),
-        ColliderBuilder::ball(0.5),
-    );
+    let (mut world, _) = world_with_ground();
+    let (ball, _) = ball_at(&mut world, [0.0, 1.2, 0.0], 0.5);
     (world, ball, ContactLayer::new())
 }
 

@@ -106,58 +106,16 @@ pub enum EventKind {
     Repaired = 12,
 }
 
-/// The names of 0.1, kept as deprecated aliases of Rapier's.
-#[allow(non_upper_case_globals)]
-impl EventKind {
-    /// Renamed to [`EventKind::ProximityStarted`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ProximityStarted, Rapier's name"
-    )]
-    pub const ProximityBegin: EventKind = EventKind::ProximityStarted;
-    /// Renamed to [`EventKind::ProximityPersisted`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ProximityPersisted, Rapier's name"
-    )]
-    pub const ProximityPersist: EventKind = EventKind::ProximityPersisted;
-    /// Renamed to [`EventKind::ProximityStopped`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ProximityStopped, Rapier's name"
-    )]
-    pub const ProximityEnd: EventKind = EventKind::ProximityStopped;
-    /// Renamed to [`EventKind::ContactStarted`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ContactStarted, Rapier's name"
-    )]
-    pub const TouchBegin: EventKind = EventKind::ContactStarted;
-    /// Renamed to [`EventKind::ContactPersisted`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ContactPersisted, Rapier's name"
-    )]
-    pub const TouchPersist: EventKind = EventKind::ContactPersisted;
-    /// Renamed to [`EventKind::ContactStopped`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::ContactStopped, Rapier's name"
-    )]
-    pub const TouchEnd: EventKind = EventKind::ContactStopped;
-    /// Renamed to [`EventKind::SensorStarted`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::SensorStarted, Rapier's name"
-    )]
-    pub const TriggerEnter: EventKind = EventKind::SensorStarted;
-    /// Renamed to [`EventKind::SensorStopped`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to EventKind::SensorStopped, Rapier's name"
-    )]
-    pub const TriggerExit: EventKind = EventKind::SensorStopped;
-}
+renamed_consts!(EventKind:
+    ProximityBegin => ProximityStarted, "renamed to EventKind::ProximityStarted, Rapier's name";
+    ProximityPersist => ProximityPersisted, "renamed to EventKind::ProximityPersisted, Rapier's name";
+    ProximityEnd => ProximityStopped, "renamed to EventKind::ProximityStopped, Rapier's name";
+    TouchBegin => ContactStarted, "renamed to EventKind::ContactStarted, Rapier's name";
+    TouchPersist => ContactPersisted, "renamed to EventKind::ContactPersisted, Rapier's name";
+    TouchEnd => ContactStopped, "renamed to EventKind::ContactStopped, Rapier's name";
+    TriggerEnter => SensorStarted, "renamed to EventKind::SensorStarted, Rapier's name";
+    TriggerExit => SensorStopped, "renamed to EventKind::SensorStopped, Rapier's name";
+);
 
 impl EventKind {
     /// All kinds, in declaration order.
@@ -201,12 +159,6 @@ impl KindSet {
     pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
     /// Violation / repaired (the plausibility monitor's).
     pub const MONITOR: KindSet = KindSet(0b1_1000_0000_0000);
-    /// Renamed to [`KindSet::CONTACT`].
-    #[deprecated(since = "0.2.0", note = "renamed to KindSet::CONTACT, Rapier's name")]
-    pub const TOUCH: KindSet = KindSet::CONTACT;
-    /// Renamed to [`KindSet::SENSOR`].
-    #[deprecated(since = "0.2.0", note = "renamed to KindSet::SENSOR, Rapier's name")]
-    pub const TRIGGER: KindSet = KindSet::SENSOR;
     /// The kinds only proximity tracking produces (`Proximity*` and `ContactPersisted`):
     /// a subscription to one of them needs every pair read each step
     /// ([`crate::coherence::Tracking`]).
@@ -242,6 +194,11 @@ impl KindSet {
         self.0 & other.0 != 0
     }
 }
+
+renamed_consts!(KindSet:
+    TOUCH => CONTACT, "renamed to KindSet::CONTACT, Rapier's name";
+    TRIGGER => SENSOR, "renamed to KindSet::SENSOR, Rapier's name";
+);
 
 /// `KindSet::CONTACT | KindSet::SENSOR`, as Rapier's flags combine.
 impl std::ops::BitOr for KindSet {

@@ -58,22 +58,11 @@ pub enum Category {
     Logical,
 }
 
-/// The names of 0.1, the paper's, kept as deprecated aliases of Rapier's.
-#[allow(non_upper_case_globals)]
-impl NodeKind {
-    /// Renamed to [`NodeKind::Dynamic`].
-    #[deprecated(since = "0.2.0", note = "renamed to NodeKind::Dynamic, Rapier's name")]
-    pub const Rigid: NodeKind = NodeKind::Dynamic;
-    /// Renamed to [`NodeKind::Kinematic`].
-    #[deprecated(
-        since = "0.2.0",
-        note = "renamed to NodeKind::Kinematic, Rapier's name"
-    )]
-    pub const Scripted: NodeKind = NodeKind::Kinematic;
-    /// Renamed to [`NodeKind::Sensor`].
-    #[deprecated(since = "0.2.0", note = "renamed to NodeKind::Sensor, Rapier's name")]
-    pub const Trigger: NodeKind = NodeKind::Sensor;
-}
+renamed_consts!(NodeKind:
+    Rigid => Dynamic, "renamed to NodeKind::Dynamic, Rapier's name";
+    Scripted => Kinematic, "renamed to NodeKind::Kinematic, Rapier's name";
+    Trigger => Sensor, "renamed to NodeKind::Sensor, Rapier's name";
+);
 
 impl NodeKind {
     /// The paper's symbol letter: R, F, L, S, C, M, A, V, T.
