@@ -37,7 +37,7 @@ use clap::{Parser, ValueEnum};
 use cpu_time::ThreadTime;
 use rapier3d::prelude::PhysicsWorld;
 use rapier_contact_graph::coherence::Tracking;
-use rapier_contact_graph::events::{Event, EventKind, Filter, KindSet};
+use rapier_contact_graph::events::{Event, Filter, KindSet};
 use rapier_contact_graph::{ContactLayer, Receiver, WorldMut, WorldView};
 use rcg_scenes as scenes;
 
@@ -189,12 +189,7 @@ fn run(scene: SceneArg, n: usize, args: &Args) -> Run {
     let receivers: Vec<Receiver<Event>> = match args.events {
         EventsArg::None => Vec::new(),
         EventsArg::All => vec![layer.subscribe(Filter::all())],
-        EventsArg::Contact => vec![layer.subscribe(Filter::kinds(KindSet::of(&[
-            EventKind::TouchBegin,
-            EventKind::TouchEnd,
-            EventKind::TriggerEnter,
-            EventKind::TriggerExit,
-        ])))],
+        EventsArg::Contact => vec![layer.subscribe(Filter::kinds(KindSet::COLLISION_EVENTS))],
     };
     let mut s = Samples::default();
     let mut events = 0;

@@ -478,14 +478,14 @@ fn count_graph(layer: &ContactLayer, world: &PhysicsWorld) -> GraphCounts {
         lingering_far: 0,
         adjacency_entries: 0,
         max_degree: 0,
-        triggers: g.count_of_kind(NodeKind::Trigger),
+        triggers: g.count_of_kind(NodeKind::Sensor),
         timers: g.count_of_kind(NodeKind::Timer),
         rapier_pairs: world.narrow_phase.contact_pairs().count(),
         max_neighbours: 0,
         mean_neighbours: 0.0,
     };
     let (mut sum, mut rigid) = (0usize, 0usize);
-    for (id, _) in g.nodes_of_kind(NodeKind::Rigid) {
+    for (id, _) in g.nodes_of_kind(NodeKind::Dynamic) {
         let k = g
             .neighbors(id)
             .filter(|(m, _, e)| {

@@ -24,13 +24,13 @@ fn main() {
     let mut layer = ContactLayer::new();
     let all = layer.subscribe_bounded(Filter::all(), 64).unwrap();
     let touch = layer.subscribe(Filter::kinds(KindSet::of(&[
-        EventKind::TouchBegin,
-        EventKind::TouchEnd,
+        EventKind::ContactStarted,
+        EventKind::ContactStopped,
     ])));
     let mut gone = Some(layer.subscribe(Filter::all()));
     layer.step(&mut scene.world); // the nodes exist from here on
     let b4 = layer.node_of_body(scene.body("b4").unwrap()).unwrap();
-    let top = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_nodes(&[b4]));
+    let top = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[b4]));
     println!("4 subscriptions; top box b4 is node {b4}");
 
     let (mut received_all, mut received_top) = (0usize, 0usize);
@@ -39,8 +39,8 @@ fn main() {
         let step = stats.step;
         for ev in touch.try_iter() {
             let (a, b) = (
-                name(&scene, &layer, ev.a),
-                ev.b.map_or("-", |b| name(&scene, &layer, b)),
+                name(&scene, &layer, ev.node1),
+                ev.node2.map_or("-", |b| name(&scene, &layer, b)),
             );
             println!(
                 "  step {:>3}  {:<10} {a} - {b}",

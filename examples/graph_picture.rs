@@ -101,7 +101,7 @@ fn picture(mut scene: Scene, steps: u64, path: &Path) -> std::io::Result<()> {
         s.nodes,
         s.edges,
         s.awake_bodies,
-        g.groups,
+        g.count,
         g.awake_groups,
         g.largest_bodies,
         g.largest_variables,

@@ -7,7 +7,9 @@
 //! cargo run --example passive
 //! ```
 
-use rapier_contact_graph::EventKind::{ProximityBegin, ProximityEnd, TouchBegin, TouchEnd};
+use rapier_contact_graph::EventKind::{
+    ContactStarted, ContactStopped, ProximityStarted, ProximityStopped,
+};
 use rapier_contact_graph::{ContactLayer, Filter, KindSet, NodeId};
 use rcg_scenes::{self as scenes, Scene};
 
@@ -27,7 +29,7 @@ fn show(scene: &Scene, layer: &ContactLayer, ball: NodeId, when: &str) {
     println!(
         "{when:<17} node {ball} {:?}: passive {}, edges {}, group {members:?}; enabled {}, y {:.3}",
         node.kind(),
-        node.is_passive(),
+        node.is_body_disabled(),
         node.degree(),
         rb.is_enabled(),
         rb.translation().y,
@@ -40,7 +42,13 @@ fn main() {
     let mut layer = ContactLayer::new();
     // Begin / end and sleep events (persist events would repeat every step).
     let events = layer.subscribe(Filter::kinds(
-        KindSet::of(&[ProximityBegin, ProximityEnd, TouchBegin, TouchEnd]).union(KindSet::SLEEP),
+        KindSet::of(&[
+            ProximityStarted,
+            ProximityStopped,
+            ContactStarted,
+            ContactStopped,
+        ])
+        .union(KindSet::SLEEP),
     ));
     layer.step(&mut scene.world);
     let ball = layer.node_of_body(ball_body).unwrap();
@@ -48,12 +56,12 @@ fn main() {
         match step {
             100 => {
                 show(&scene, &layer, ball, "before step 101:");
-                layer.set_passive(ball_body, true).unwrap();
-                println!("-- set_passive(ball, true)");
+                layer.set_body_disabled(ball_body, true).unwrap();
+                println!("-- set_body_disabled(ball, true)");
             }
             150 => {
-                layer.set_passive(ball_body, false).unwrap();
-                println!("-- set_passive(ball, false)");
+                layer.set_body_disabled(ball_body, false).unwrap();
+                println!("-- set_body_disabled(ball, false)");
             }
             _ => {}
         }
@@ -62,12 +70,12 @@ fn main() {
             show(&scene, &layer, ball, &format!("after step {}:", step + 1));
         }
         for ev in events.try_iter() {
-            let b = ev.b.map_or("-", |b| name(&scene, &layer, b));
+            let b = ev.node2.map_or("-", |b| name(&scene, &layer, b));
             let kind = format!("{:?}", ev.kind);
             println!(
                 "step {:>3}  {kind:<14} {:<6} {b}",
                 ev.step,
-                name(&scene, &layer, ev.a)
+                name(&scene, &layer, ev.node1)
             );
         }
         layer

@@ -37,8 +37,8 @@ fn main() {
 
     let mut layer = ContactLayer::new();
     let touches = layer.subscribe(Filter::kinds(KindSet::of(&[
-        EventKind::TouchBegin,
-        EventKind::TouchEnd,
+        EventKind::ContactStarted,
+        EventKind::ContactStopped,
     ])));
     let top_y = |w: &PhysicsWorld| w.bodies[top].translation().y;
     let mut rule = None;
@@ -75,8 +75,8 @@ fn main() {
                 "step {:>3}  {:<10} {:<6} {:<6} (top at y = {:.2})",
                 ev.step,
                 format!("{:?}", ev.kind),
-                name(ev.body_a),
-                name(ev.body_b),
+                name(ev.body1),
+                name(ev.body2),
                 top_y(&world)
             );
         }

@@ -67,7 +67,7 @@ fn main() {
                 s.step,
                 s.nodes,
                 s.edges,
-                s.groups.groups,
+                s.groups.count,
                 s.groups.awake_groups,
                 s.groups.largest_bodies,
                 s.groups.largest_variables,

@@ -25,7 +25,7 @@ fn main() {
         scene.before_step(step);
         layer.step(&mut scene.world);
         for ev in ticks.try_iter() {
-            assert_eq!((ev.kind, ev.a), (EventKind::TimerTick, timer));
+            assert_eq!((ev.kind, ev.node1), (EventKind::TimerTick, timer));
             let ball = scene.world.bodies[scene.body("ball").unwrap()].translation();
             println!(
                 "step {:>3}  t = {:.2} s  tick {}  (ball y = {:.3})",

@@ -1,6 +1,6 @@
 //! Trigger volumes: a ball rolls along a table, through a trigger, off the ledge and
 //! onto the floor (`scenes::trigger_ledge`). One subscription takes the trigger events
-//! (`KindSet::TRIGGER`), another the ball's touch begin / end, to tell the whole story.
+//! (`KindSet::SENSOR`), another the ball's touch begin / end, to tell the whole story.
 //!
 //! ```text
 //! cargo run --example triggers
@@ -31,8 +31,8 @@ fn print(scene: &Scene, layer: &ContactLayer, ev: &Event, dt: f64) {
         ev.step,
         ev.step as f64 * dt,
         format!("{:?}", ev.kind),
-        name(scene, layer, ev.a),
-        ev.b.map_or("-".into(), |b| name(scene, layer, b)),
+        name(scene, layer, ev.node1),
+        ev.node2.map_or("-".into(), |b| name(scene, layer, b)),
     );
 }
 
@@ -40,19 +40,22 @@ fn main() {
     let mut scene = scenes::trigger_ledge();
     let dt = scenes::DT as f64;
     let mut layer = ContactLayer::new();
-    let triggers = layer.subscribe(Filter::kinds(KindSet::TRIGGER));
+    let triggers = layer.subscribe(Filter::kinds(KindSet::SENSOR));
 
     // The first step makes the nodes; then the ball's node can be named in a filter.
     layer.step(&mut scene.world);
     let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
     let touches = layer.subscribe(
-        Filter::kinds(KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd]))
-            .with_nodes(&[ball]),
+        Filter::kinds(KindSet::of(&[
+            EventKind::ContactStarted,
+            EventKind::ContactStopped,
+        ]))
+        .with_nodes(&[ball]),
     );
     let trigger_body = layer.node_of_body(scene.body("trigger").unwrap()).unwrap();
     for (id, node) in layer
         .graph()
-        .nodes_of_kind(rapier_contact_graph::NodeKind::Trigger)
+        .nodes_of_kind(rapier_contact_graph::NodeKind::Sensor)
     {
         println!(
             "trigger node {id} ({:?}); its fixed body is node {trigger_body}",
@@ -66,8 +69,8 @@ fn main() {
         // Events of one step, trigger ones first (two channels: merge by arrival).
         for ev in triggers.try_iter() {
             match ev.kind {
-                EventKind::TriggerEnter => enters += 1,
-                EventKind::TriggerExit => exits += 1,
+                EventKind::SensorStarted => enters += 1,
+                EventKind::SensorStopped => exits += 1,
                 _ => unreachable!("filtered"),
             }
             print(&scene, &layer, &ev, dt);

@@ -62,7 +62,7 @@
 //!    [`BodyState`] in the spirit of the paper's Fig. 17 ("purple means sleepy, red
 //!    moving, blue absolute rest, green fixed"): green is *held* (fixated by the
 //!    speed-ups), and this overlay tells Rapier's own sleep (dark purple) from the
-//!    speed-ups' sleepy tag (purple), and shows insulators (grey) and passive bodies.
+//!    speed-ups' sleepy tag (purple), and shows insulators (grey) and disabled bodies.
 //!
 //! Logical edges (rule ↔ body) and rule and timer nodes are not drawn: they have no
 //! place in space.
@@ -157,8 +157,9 @@ pub const DEFAULT_REST_SPEED: Real = 1e-3;
 /// gives it; the rules, first match wins, are in the order of the variants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum BodyState {
-    /// Passive (paper §3.2, [`ContactLayer::set_passive`]) or disabled in Rapier.
-    Passive,
+    /// Disabled: by [`ContactLayer::set_body_disabled`] (the paper's *passive* body,
+    /// §3.2) or in Rapier.
+    Disabled,
     /// Held: fixated by the `fixate` speed-up (Fig. 17's "fixed", green).
     Held,
     /// An insulator: a fixed or kinematic body, or a collider without a body. The solver
@@ -175,10 +176,14 @@ pub enum BodyState {
     Moving,
 }
 
+renamed_consts!(BodyState:
+    Passive => Disabled, "renamed to BodyState::Disabled, Rapier's word";
+);
+
 impl BodyState {
     /// Every state, in rule order.
     pub const ALL: [BodyState; 7] = [
-        BodyState::Passive,
+        BodyState::Disabled,
         BodyState::Held,
         BodyState::Insulator,
         BodyState::Asleep,
@@ -190,7 +195,7 @@ impl BodyState {
     /// A short name, for legends.
     pub const fn name(self) -> &'static str {
         match self {
-            BodyState::Passive => "passive",
+            BodyState::Disabled => "disabled",
             BodyState::Held => "held",
             BodyState::Insulator => "insulator",
             BodyState::Asleep => "asleep",
@@ -228,8 +233,8 @@ impl BodyState {
     ) -> Option<BodyState> {
         let rb = bodies.get(h)?;
         let speedups = layer.speedups();
-        Some(if node.is_passive() || !rb.is_enabled() {
-            BodyState::Passive
+        Some(if node.is_body_disabled() || !rb.is_enabled() {
+            BodyState::Disabled
         } else if speedups.is_some_and(|s| s.is_fixated(h)) {
             BodyState::Held
         } else if !rb.is_dynamic() {
@@ -250,8 +255,8 @@ impl BodyState {
 /// saturation, lightness, alpha]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StateColors {
-    /// [`BodyState::Passive`]: pale, half transparent grey.
-    pub passive: DebugColor,
+    /// [`BodyState::Disabled`]: pale, half transparent grey.
+    pub disabled: DebugColor,
     /// [`BodyState::Held`]: green (Fig. 17's "fixed").
     pub held: DebugColor,
     /// [`BodyState::Insulator`]: mid grey.
@@ -270,7 +275,7 @@ pub struct StateColors {
 impl Default for StateColors {
     fn default() -> Self {
         StateColors {
-            passive: [0.0, 0.0, 0.8, 0.5],
+            disabled: [0.0, 0.0, 0.8, 0.5],
             held: [130.0, 0.75, 0.4, 1.0],
             insulator: [0.0, 0.0, 0.5, 1.0],
             asleep: [280.0, 0.55, 0.3, 1.0],
@@ -285,7 +290,7 @@ impl StateColors {
     /// The colour of `state`.
     pub const fn get(&self, state: BodyState) -> DebugColor {
         match state {
-            BodyState::Passive => self.passive,
+            BodyState::Disabled => self.disabled,
             BodyState::Held => self.held,
             BodyState::Insulator => self.insulator,
             BodyState::Asleep => self.asleep,
@@ -467,7 +472,7 @@ const UNBOUNDED: Real = 1.0e30;
 struct End<'a> {
     object: Option<DebugRenderObject<'a>>,
     pos: Option<Vector>,
-    /// A body the solver moves (Rigid or Link): preferred as the edge's object.
+    /// A body the solver moves (Dynamic or Link): preferred as the edge's object.
     simulated: bool,
 }
 
@@ -768,7 +773,7 @@ impl GraphOverlay {
         };
         // Trigger and structural edges run from the trigger or container to the body.
         let from_b = match which {
-            Layer::Trigger => nb.kind() == NodeKind::Trigger,
+            Layer::Trigger => nb.kind() == NodeKind::Sensor,
             Layer::Structural => nb.kind().category() == crate::Category::Container,
             _ => false,
         };

@@ -45,7 +45,7 @@
 //! # Sensors
 //! [`sensor_contents`](ContactLayer::sensor_contents) (what is inside a sensor
 //! collider), [`sensors_containing`](ContactLayer::sensors_containing) (which sensors
-//! a body is in), and `TriggerEnter` / `TriggerExit` events naming the sensor's
+//! a body is in), and `SensorStarted` / `SensorStopped` events naming the sensor's
 //! collider. Sensors see what Rapier's own sensor collision types give;
 //! [`ContactLayer::set_trigger_widening`] opts in to the paper's triggers, which see
 //! bodies of every type (a sensor on a fixed body sees fixed bodies too), and says
@@ -72,19 +72,21 @@
 //!     ColliderBuilder::ball(0.5),
 //! );
 //! let mut layer = ContactLayer::new();
-//! // Touches of the ball, and any body falling asleep (crossbeam receivers).
-//! let touches = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]));
+//! // The ball's contacts and sensors starting and stopping (Rapier's collision
+//! // events), and any body falling asleep (crossbeam receivers).
+//! let touches =
+//!     layer.subscribe(Filter::kinds(KindSet::COLLISION_EVENTS).with_bodies(&[ball]));
 //! let _sleep = layer.subscribe(Filter::kinds(KindSet::SLEEP));
 //! for _ in 0..60 {
 //!     layer.step(&mut world);
 //! }
 //! let first = touches.try_iter().next().unwrap();
-//! assert_eq!(first.kind, EventKind::TouchBegin);
-//! assert!(first.body_a == Some(ball) || first.body_b == Some(ball));
+//! assert_eq!(first.kind, EventKind::ContactStarted);
+//! assert!(first.body1 == Some(ball) || first.body2 == Some(ball));
 //! ```
-//! Kinds come in Begin / Persist / End spans (the listener contract of
+//! Kinds come in Started / Persisted / Stopped spans (the listener contract of
 //! [`events`]); every event carries the Rapier handles of what it names. Subscribe
-//! to `Begin`/`End` only where you can: `TouchPersist` and the proximity kinds need
+//! to `Started`/`Stopped` only where you can: `ContactPersisted` and the proximity kinds need
 //! every pair read each step (proximity tracking), the others follow Rapier's own
 //! collision events under touching tracking
 //! ([`coherence::Tracking::Touching`], a fraction of the cost).
@@ -95,13 +97,40 @@
 //! | `narrow_phase.contact_pairs_with(c)` + `has_any_active_contact()` | [`ContactLayer::touching_body`] |
 //! | a contact's normal and impulses | [`ContactLayer::contact_details`], [`ContactLayer::supports_of_body`] |
 //! | `narrow_phase.intersection_pairs_with(sensor)` | [`ContactLayer::sensor_contents`], [`ContactLayer::sensors_containing`] |
-//! | `CollisionEvent::Started` / `Stopped` | `TouchBegin` / `TouchEnd`, `TriggerEnter` / `TriggerExit` ([`EventKind`]) |
-//! | `collider1` / `collider2` | [`Event::collider_a`] / [`Event::collider_b`], and [`Event::body_a`] / [`Event::body_b`] |
+//! | `CollisionEvent::Started` / `Stopped` | [`EventKind::ContactStarted`] / [`EventKind::ContactStopped`], [`EventKind::SensorStarted`] / [`EventKind::SensorStopped`]; all four: [`KindSet::COLLISION_EVENTS`] |
+//! | `collider1` / `collider2` | [`Event::collider1`] / [`Event::collider2`], and [`Event::body1`] / [`Event::body2`] |
 //! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
 //! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
-//! | dynamic / kinematic / fixed body | node kinds `Rigid` / `Scripted` / `Fixed` ([`NodeKind`]) |
-//! | a disabled body | a passive body ([`ContactLayer::set_passive`]) |
+//! | dynamic / kinematic / fixed body, sensor collider | node kinds [`NodeKind::Dynamic`] / [`NodeKind::Kinematic`] / [`NodeKind::Fixed`], [`NodeKind::Sensor`] |
+//! | `RigidBody::set_enabled(false)` (a disabled body) | [`ContactLayer::set_body_disabled`] (guarded against Rapier's panics), [`Node::is_body_disabled`] |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
+//!
+//! # The paper's terms
+//! The crate names what Rapier has a name for as Rapier does; the paper's terms stay in
+//! the docs where they explain the paper (and as the one-letter codes of text dumps).
+//!
+//! | the paper | this crate | Rapier |
+//! |---|---|---|
+//! | rigid body (R) | [`NodeKind::Dynamic`] | a dynamic `RigidBody` |
+//! | fixed body (F) | [`NodeKind::Fixed`] | a fixed `RigidBody`, or a collider without a parent |
+//! | scripted body (S) | [`NodeKind::Kinematic`] | a kinematic `RigidBody` |
+//! | link body (L) | [`NodeKind::Link`] | a link of a multibody |
+//! | composite (C), multibody (M) | [`NodeKind::Composite`], [`NodeKind::Multibody`] | bodies joined by fixed joints; a multibody or jointed articulation |
+//! | logical rule (A), timer (T) | [`NodeKind::Rule`], [`NodeKind::Timer`] | — |
+//! | trigger volume (V) | [`NodeKind::Sensor`] | a sensor collider |
+//! | passive body (§3.2) | [`ContactLayer::set_body_disabled`], [`Node::is_body_disabled`] | a disabled body (`RigidBody::set_enabled(false)`) |
+//! | touch begin / persist / end (Table 3) | [`EventKind::ContactStarted`] / [`EventKind::ContactPersisted`] / [`EventKind::ContactStopped`] | `CollisionEvent::Started` / `Stopped` of a contact pair |
+//! | proximity begin / persist / end | [`EventKind::ProximityStarted`] / [`EventKind::ProximityPersisted`] / [`EventKind::ProximityStopped`] | a narrow-phase pair appearing / kept / removed |
+//! | trigger enter / exit | [`EventKind::SensorStarted`] / [`EventKind::SensorStopped`] | `CollisionEvent::Started` / `Stopped` with a sensor |
+//! | the pair's nodes *A*, *B* | [`Event::node1`] / [`Event::node2`] (handles: [`Event::body1`] / [`Event::body2`], [`Event::collider1`] / [`Event::collider2`]) | `collider1` / `collider2` |
+//! | contact group (Figs. 7–8) | [`Group`], [`ContactLayer::group_of_body`] | Rapier's islands, roughly |
+//!
+//! Before 0.2 the crate used the paper's names: `NodeKind::Rigid` / `Scripted` /
+//! `Trigger`, `EventKind::TouchBegin` … `TriggerExit`, `KindSet::TOUCH` / `TRIGGER`,
+//! `set_passive`, `Node::is_passive` and `BodyState::Passive` remain as deprecated
+//! aliases; the event's fields `a` / `b`, `body_a` / `body_b`, `collider_a` /
+//! `collider_b` and `GroupStats::groups` (now `count`) are renamed outright. Data
+//! serialised with the old names still loads. `CHANGELOG.md` lists every rename.
 //!
 //! # The report's sections, for readers of the paper
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
@@ -110,8 +139,8 @@
 //!   obsolete test; or, with [`coherence::Tracking::Touching`], touch transitions
 //!   from Rapier's own collision events ([`coherence::TouchFeed`]);
 //! - [`groups`]: contact groups by the traversal of Figs. 7–8, kept incrementally;
-//! - [`logic`]: rules, timers, passive bodies, containers (Table 1, §3.2), and the
-//!   one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);
+//! - [`logic`]: rules, timers, passive (disabled) bodies, containers (Table 1, §3.2),
+//!   and the one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);
 //! - [`events`]: event kinds, filters and crossbeam subscriptions (§4, Table 3);
 //! - [`speedups`]: the §7 switches and how each is realised in Rapier;
 //! - [`monitor`]: plausibility violations and their repair (§8, Figs. 15 and 17);
@@ -128,6 +157,25 @@
 //! part of it. `docs/ARCHITECTURE.md` maps the modules and their dependency direction.
 
 #![warn(missing_docs)]
+
+/// Deprecated associated consts of `$ty`, one per name of 0.1 (the paper's) that
+/// Rapier's vocabulary replaced: `Old => New, "note";` makes `$ty::Old` an alias of
+/// `$ty::New` (a variant or a const), usable in expressions and, for enums deriving
+/// `PartialEq` and `Eq`, in match patterns. The note is a literal: `deprecated` takes
+/// no macro call.
+macro_rules! renamed_consts {
+    ($ty:ident: $($old:ident => $new:ident, $note:literal;)+) => {
+        /// The names of 0.1, kept as deprecated aliases of Rapier's.
+        #[allow(non_upper_case_globals)]
+        impl $ty {
+            $(
+                #[doc = concat!("Renamed to [`", stringify!($ty), "::", stringify!($new), "`].")]
+                #[deprecated(since = "0.2.0", note = $note)]
+                pub const $old: $ty = $ty::$new;
+            )+
+        }
+    };
+}
 
 pub mod coherence;
 #[cfg(feature = "debug-render")]

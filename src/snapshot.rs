@@ -136,6 +136,13 @@
 //! writes it as `null` and then refuses to read it back ("invalid type: null,
 //! expected f32", seen on a 20-sphere pile), so it fails on nearly every layer.
 //!
+//! The renames of 0.2 to Rapier's names (node kinds `Rigid` / `Scripted` / `Trigger`
+//! → `Dynamic` / `Kinematic` / `Sensor`, `GroupStats::groups` → `count`, and the
+//! event kinds and fields) do not change [`SNAPSHOT_FORMAT`]: bincode encodes variants
+//! and fields by index, so its bytes are the same, and self-describing formats (CBOR,
+//! say) written with the old names still load through serde aliases
+//! (`tests/serde_old_names.rs`).
+//!
 //! # Cost
 //! - [`ContactLayer::snapshot`]: a copy of the state, O(nodes + edges + groups + rules
 //!   + timers + speed-up records), plus O(bodies + colliders + joints) for the stamp.

@@ -43,9 +43,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         }
     }
     let graph_physical: usize = [
-        NodeKind::Rigid,
+        NodeKind::Dynamic,
         NodeKind::Fixed,
-        NodeKind::Scripted,
+        NodeKind::Kinematic,
         NodeKind::Link,
     ]
     .iter()
@@ -73,7 +73,11 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
     // the filter hooks only where a collider carries the flag). A rule-screened pair
     // must then be one Rapier filtered: no contact, no intersection.
     let screened = |a, b, c1, c2, sensor_pair: bool, active: bool| -> Result<bool> {
-        let passive = |n| graph.node(n).is_some_and(|n: &crate::Node| n.is_passive());
+        let passive = |n| {
+            graph
+                .node(n)
+                .is_some_and(|n: &crate::Node| n.is_body_disabled())
+        };
         if passive(a) || passive(b) {
             return Ok(true);
         }
@@ -272,7 +276,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         let simulated = node.kind().is_simulated();
         if simulated
             && node.is_awake()
-            && !node.is_passive()
+            && !node.is_body_disabled()
             && node.group().is_none()
             && !layer.insulates(id)
         {

@@ -269,7 +269,7 @@ fn graph_whole_graph_calls_on_empty_and_used_graphs() {
     assert_eq!(pg.node_count(), g.node_count());
     assert_eq!(pg.edge_count(), g.edge_count());
     g.validate().unwrap();
-    assert_eq!(g.nodes_of_kind(NodeKind::Rigid).count(), 1);
+    assert_eq!(g.nodes_of_kind(NodeKind::Dynamic).count(), 1);
     // The obsolete test on non-finite boxes: never obsolete.
     use rapier3d::parry::bounding_volume::Aabb;
     let nan = Aabb::new(Vector::splat(Real::NAN), Vector::splat(Real::NAN));

@@ -1,4 +1,4 @@
-//! Bad-input audit (see `tests/common/audit.rs`): `set_passive` with stale, foreign
+//! Bad-input audit (see `tests/common/audit.rs`): `set_body_disabled` with stale, foreign
 //! and removed bodies, and the audit's last table — the states on which Rapier 0.36
 //! itself panics (a disabled multibody member, an enabled joint to a disabled body, a
 //! multibody link that is not dynamic) and how the layer keeps its calls from
@@ -18,21 +18,21 @@ fn set_passive_with_stale_foreign_and_removed_bodies() {
     let (mut world, _, ball, mut layer) = stepped(2);
     let (_, removed) = stale_node(&mut layer, &mut world);
     assert_eq!(
-        layer.set_passive(removed, true),
+        layer.set_body_disabled(removed, true),
         Err(Error::UnknownBody(removed))
     );
     for f in foreign_bodies(ball) {
-        assert_eq!(layer.set_passive(f, true), Err(Error::UnknownBody(f)));
+        assert_eq!(layer.set_body_disabled(f, true), Err(Error::UnknownBody(f)));
     }
     // Removed from the world but not analysed yet (wrong time): the layer cannot know;
     // accepted and a no-op, the node goes at the next analysis.
-    layer.set_passive(ball, true).unwrap();
-    layer.set_passive(ball, false).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
+    layer.set_body_disabled(ball, false).unwrap();
     world.remove_body(ball);
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     no_panic("passive on a removed body", || layer.step(&mut world));
     assert_eq!(
-        layer.set_passive(ball, false),
+        layer.set_body_disabled(ball, false),
         Err(Error::UnknownBody(ball))
     );
     layer.validate(&world).unwrap();
@@ -55,19 +55,19 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
     // At the call: a `Link` node (the root and the link) is refused, nothing changes.
     for h in [root, link] {
         assert!(matches!(
-            layer.set_passive(h, true),
+            layer.set_body_disabled(h, true),
             Err(Error::Unsupported { .. })
         ));
     }
-    no_panic("steps after refused set_passive", || {
+    no_panic("steps after refused set_body_disabled", || {
         for _ in 0..3 {
             layer.step(&mut world);
         }
     });
     assert!(world.bodies[root].is_enabled() && world.bodies[link].is_enabled());
     assert!(layer.refusals().is_empty());
-    // Wrong time: joined to the multibody between `set_passive` and the pre-step.
-    layer.set_passive(spare, true).unwrap();
+    // Wrong time: joined to the multibody between `set_body_disabled` and the pre-step.
+    layer.set_body_disabled(spare, true).unwrap();
     world
         .insert_multibody_joint(link, spare, chain_joint())
         .unwrap();
@@ -82,15 +82,17 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
     no_panic("the next step", || layer.step(&mut world));
     assert!(layer.refusals().is_empty(), "cleared by every pre-step");
     // Making a member active is always accepted.
-    layer.set_passive(root, false).unwrap();
-    no_panic("set_passive(false) on a member", || layer.step(&mut world));
+    layer.set_body_disabled(root, false).unwrap();
+    no_panic("set_body_disabled(false) on a member", || {
+        layer.step(&mut world)
+    });
     layer.validate(&world).unwrap();
 }
 
 #[test]
 fn rapier_panics_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     let (mut world, mut layer, [_, _, spare]) = multibody_scene();
-    layer.set_passive(spare, true).unwrap();
+    layer.set_body_disabled(spare, true).unwrap();
     layer.step(&mut world);
     assert!(!world.bodies[spare].is_enabled());
     // The user makes the passive body the root of a new multibody whose link rests on
@@ -115,7 +117,7 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
         ball_at(&mut world, [x, 1.0, 0.0], 0.5);
     }
     layer.step(&mut world);
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     layer.step(&mut world);
     // Joints added by the user to the passive body: to the fixed ground, and to a new
     // fixed body (Rapier enables the `DisabledByAttachedBody` joints of a body it
@@ -136,8 +138,8 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
     let enabled = |w: &PhysicsWorld, j| w.impulse_joints.get(j).unwrap().data.is_enabled();
     assert!(!enabled(&world, j1) && !enabled(&world, j2) && !enabled(&world, j3));
     // Active again: the layer's joints come back, the user's stays disabled.
-    layer.set_passive(ball, false).unwrap();
-    no_panic("steps after set_passive(false)", || {
+    layer.set_body_disabled(ball, false).unwrap();
+    no_panic("steps after set_body_disabled(false)", || {
         for _ in 0..3 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -145,14 +147,14 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
     });
     assert!(enabled(&world, j1) && enabled(&world, j2) && !enabled(&world, j3));
     // Another world handed to the pre-step loses nothing.
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     layer.step(&mut world);
     assert!(!enabled(&world, j1));
     let mut other = PhysicsWorld::new();
     no_panic("pre_step on another world", || {
         layer.pre_step(WorldMut::from(&mut other))
     });
-    layer.set_passive(ball, false).unwrap();
+    layer.set_body_disabled(ball, false).unwrap();
     layer.step(&mut world);
     assert!(enabled(&world, j1), "still held, enabled again");
 }

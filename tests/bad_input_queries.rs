@@ -28,7 +28,7 @@ fn layer_node_queries_with_bad_ids() {
         assert_eq!(layer.is_supported(n), Err(Error::StaleNode(n)));
         assert!(!layer.insulates(n));
     }
-    assert_eq!(layer.kind_of(b), Ok(NodeKind::Rigid));
+    assert_eq!(layer.kind_of(b), Ok(NodeKind::Dynamic));
     // Non-finite gravity of the last analysed world: an error, not an answer.
     world.gravity = Vector::splat(Real::NAN);
     layer.step(&mut world);
@@ -146,7 +146,7 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
         (Error::Invariant("x".into()), "invariant"),
         (
             Error::Unsupported {
-                what: "set_passive(true) on a multibody link",
+                what: "set_body_disabled(true) on a multibody link",
                 reason: "Rapier panics",
             },
             "multibody link is not supported: Rapier panics",

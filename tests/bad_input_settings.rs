@@ -306,6 +306,11 @@ fn monitor_entry_points_take_bad_input() {
     layer.prime_monitor(&WorldView::from(&world));
     layer.mark_pushed(ball);
     assert!(layer.monitor().is_none());
+    assert_eq!(
+        layer.violation_totals(),
+        None,
+        "no totals with the monitor off"
+    );
     layer
         .set_monitor(
             MonitorMode::Off,
@@ -364,4 +369,5 @@ fn monitor_entry_points_take_bad_input() {
     });
     layer.validate(&world).unwrap();
     assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
+    assert_eq!(layer.violation_totals().unwrap().total(), 0);
 }

@@ -123,12 +123,14 @@ fn bug_step_remove_and_insert_leaves_ghost_node() {
     // Sleeping body removed, another inserted: its touch span never ends.
     let (mut world, _, ball, mut layer) = stepped(400);
     assert!(world.bodies[ball].is_sleeping());
-    let events = layer.subscribe(Filter::kinds(KindSet::TOUCH));
+    let events = layer.subscribe(Filter::kinds(KindSet::CONTACT));
     world.remove_body(ball);
     ball_at(&mut world, [20.0, 5.0, 0.0], 0.5);
     layer.step(&mut world);
     assert!(
-        events.try_iter().any(|e| e.kind == EventKind::TouchEnd),
+        events
+            .try_iter()
+            .any(|e| e.kind == EventKind::ContactStopped),
         "removing a body ends its spans (events contract)"
     );
     layer.validate(&world).unwrap();
@@ -166,7 +168,7 @@ fn bug_step_huge_dt_misses_pairs() {
 #[test]
 fn pre_step_with_a_foreign_world_and_twice() {
     let (mut world, ground, ball, mut layer) = stepped(3);
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     let (g, b) = (
         layer.node_of_body(ground).unwrap(),
         layer.node_of_body(ball).unwrap(),
@@ -385,7 +387,10 @@ fn wrong_time_calls_before_the_first_step() {
     let mut layer = ContactLayer::new();
     // The layer has not seen the world yet: bodies are unknown, not an absent value.
     assert_eq!(layer.node_of_body(ball), Err(Error::UnknownBody(ball)));
-    assert_eq!(layer.set_passive(ball, true), Err(Error::UnknownBody(ball)));
+    assert_eq!(
+        layer.set_body_disabled(ball, true),
+        Err(Error::UnknownBody(ball))
+    );
     assert!(Error::UnknownBody(ball)
         .to_string()
         .contains("not seen by the layer yet"));

@@ -118,5 +118,5 @@ fn a_settled_scene_costs_no_pair_walk() {
     assert_eq!(stats.walk.bodies, 0, "{stats:?}");
     assert_eq!(stats.walk.collider_pairs, 0);
     assert_eq!(stats.groups.rebuilt, 0);
-    assert_eq!(stats.groups.groups, 1);
+    assert_eq!(stats.groups.count, 1);
 }

@@ -66,7 +66,7 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
     );
     let mut layer = ContactLayer::new();
     run(&mut layer, &mut world, 1);
-    layer.set_passive(passive, true).unwrap();
+    layer.set_body_disabled(passive, true).unwrap();
     run(&mut layer, &mut world, 19);
     assert!(!world.bodies[resting].is_sleeping(), "awake after 0.2 s");
 
@@ -90,7 +90,7 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
         (platform, BodyState::Insulator),
         (resting, BodyState::Resting),
         (falling, BodyState::Moving),
-        (passive, BodyState::Passive),
+        (passive, BodyState::Disabled),
     ] {
         assert_eq!(state(&layer, &world, h), Some(s));
         assert_marker(&rec, &style, &world, h, s);

@@ -147,8 +147,8 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
             node(&layer, bodies[5]),
         ))
         .unwrap();
-    layer.set_passive(bodies[1], true).unwrap();
-    layer.set_passive(bodies[7], true).unwrap();
+    layer.set_body_disabled(bodies[1], true).unwrap();
+    layer.set_body_disabled(bodies[7], true).unwrap();
     for i in 0..60 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();

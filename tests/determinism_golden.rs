@@ -24,8 +24,8 @@
 //!   x y z w, `f32::to_bits`), bodies in handle order;
 //! - *final pose*: the same for the state after the last step alone;
 //! - *events*: the full event stream of an all-kinds subscription, per event its step,
-//!   kind as `u8`, `a` (index, generation), `b` (presence byte, index, generation) and
-//!   tick.
+//!   kind as `u8`, `node1` (index, generation), `node2` (presence byte, index,
+//!   generation) and tick.
 //!
 //! Checked:
 //! 1. two runs of each mode in one process give the same hashes (unconditional);
@@ -187,8 +187,8 @@ fn hash_poses(h: &mut Fnv1a, world: &PhysicsWorld) {
 fn hash_event(h: &mut Fnv1a, e: &Event) {
     h.u64(e.step);
     h.u8(e.kind as u8);
-    h.node(e.a);
-    match e.b {
+    h.node(e.node1);
+    match e.node2 {
         Some(b) => {
             h.u8(1);
             h.node(b);

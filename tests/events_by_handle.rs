@@ -34,9 +34,9 @@ fn run(tracking: Tracking) {
     let (mut world, a, b, sensor) = scene();
     let mut layer = ContactLayer::new();
     layer.set_tracking(tracking);
-    let all = layer.subscribe(Filter::kinds(KindSet::TOUCH | KindSet::TRIGGER));
-    let of_a = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_bodies(&[a]));
-    let of_sensor = layer.subscribe(Filter::kinds(KindSet::TRIGGER).with_colliders(&[sensor]));
+    let all = layer.subscribe(Filter::kinds(KindSet::CONTACT | KindSet::SENSOR));
+    let of_a = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_bodies(&[a]));
+    let of_sensor = layer.subscribe(Filter::kinds(KindSet::SENSOR).with_colliders(&[sensor]));
     let (mut seen_a, mut seen_sensor) = (Vec::new(), Vec::new());
     for _ in 0..120 {
         layer.step(&mut world);
@@ -47,22 +47,22 @@ fn run(tracking: Tracking) {
         // Exactly the step's events naming the body, in order; the same as the query.
         let want_a: Vec<Event> = step
             .iter()
-            .filter(|e| KindSet::TOUCH.contains(e.kind))
-            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a))
+            .filter(|e| KindSet::CONTACT.contains(e.kind))
+            .filter(|e| e.body1 == Some(a) || e.body2 == Some(a))
             .copied()
             .collect();
         assert_eq!(got_a, want_a);
         let queried: Vec<Event> = layer
             .last_events_of_body(a)
-            .filter(|e| KindSet::TOUCH.contains(e.kind))
+            .filter(|e| KindSet::CONTACT.contains(e.kind))
             .copied()
             .collect();
         assert_eq!(queried, want_a);
         // Exactly the trigger events of that sensor.
         let want_sensor: Vec<Event> = step
             .iter()
-            .filter(|e| KindSet::TRIGGER.contains(e.kind))
-            .filter(|e| e.collider_a == Some(sensor))
+            .filter(|e| KindSet::SENSOR.contains(e.kind))
+            .filter(|e| e.collider1 == Some(sensor))
             .copied()
             .collect();
         assert_eq!(got_sensor, want_sensor);
@@ -70,18 +70,18 @@ fn run(tracking: Tracking) {
         seen_sensor.extend(got_sensor);
     }
     // Ball a landed (a touch with the ground) and never met ball b.
-    assert!(seen_a.iter().any(|e| e.kind == EventKind::TouchBegin));
+    assert!(seen_a.iter().any(|e| e.kind == EventKind::ContactStarted));
     assert!(seen_a
         .iter()
-        .all(|e| e.body_a != Some(b) && e.body_b != Some(b)));
+        .all(|e| e.body1 != Some(b) && e.body2 != Some(b)));
     // Ball b fell through the sensor: it entered, then left.
     let kinds: Vec<(EventKind, Option<RigidBodyHandle>)> =
-        seen_sensor.iter().map(|e| (e.kind, e.body_b)).collect();
+        seen_sensor.iter().map(|e| (e.kind, e.body2)).collect();
     assert_eq!(
         kinds,
         [
-            (EventKind::TriggerEnter, Some(b)),
-            (EventKind::TriggerExit, Some(b))
+            (EventKind::SensorStarted, Some(b)),
+            (EventKind::SensorStopped, Some(b))
         ]
     );
 }
@@ -110,7 +110,7 @@ fn body_and_collider_restrictions_add_up() {
         layer.validate(&world).unwrap();
         let want: Vec<Event> = all
             .try_iter()
-            .filter(|e| e.body_a == Some(a) || e.body_b == Some(a) || e.collider_a == Some(sensor))
+            .filter(|e| e.body1 == Some(a) || e.body2 == Some(a) || e.collider1 == Some(sensor))
             .collect();
         let got: Vec<Event> = both.try_iter().collect();
         assert_eq!(got, want);
@@ -118,12 +118,12 @@ fn body_and_collider_restrictions_add_up() {
         // Ball b's own touch with the ground is in neither restriction.
         assert!(got
             .iter()
-            .all(|e| e.collider_a == Some(sensor) || (e.body_b != Some(b) && e.body_a != Some(b))));
+            .all(|e| e.collider1 == Some(sensor) || (e.body2 != Some(b) && e.body1 != Some(b))));
     }
     assert!(n > 0);
 }
 
-/// A touch begins with its contact normal (from `a` to `b`) and the solver's normal
+/// A touch begins with its contact normal (from `node1` to `node2`) and the solver's normal
 /// impulse: the ball landing on the ground is pushed up. Proximity tracking copies
 /// them from the edge, touching tracking and details off read them from Rapier: the
 /// three twin worlds give the same bits.
@@ -134,8 +134,8 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
         let mut layer = ContactLayer::new();
         layer.set_tracking(tracking);
         layer.set_contact_details(details);
-        let rx =
-            layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])).with_bodies(&[a]));
+        let rx = layer
+            .subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])).with_bodies(&[a]));
         for _ in 0..120 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -146,7 +146,7 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
     assert_eq!(copied.len(), 1, "the ball lands once: {copied:?}");
     let e = copied[0];
     // The ground (inserted first) is the pair's A: the normal points up, into the ball.
-    assert_eq!(e.body_b, Some(scene().1));
+    assert_eq!(e.body2, Some(scene().1));
     assert!(e.normal.y > 0.99, "normal {:?}", e.normal);
     assert!(e.impulse > 0.0, "impulse {}", e.impulse);
     for (tracking, details) in [(Tracking::Touching, true), (Tracking::Proximity, false)] {

@@ -33,11 +33,11 @@ fn the_contract_holds_in_a_settling_pile_with_removals() {
     }
     let kinds: std::collections::BTreeSet<_> = log.events.iter().map(|e| e.kind).collect();
     for k in [
-        EventKind::ProximityBegin,
-        EventKind::TouchBegin,
-        EventKind::TouchPersist,
-        EventKind::TouchEnd,
-        EventKind::ProximityEnd,
+        EventKind::ProximityStarted,
+        EventKind::ContactStarted,
+        EventKind::ContactPersisted,
+        EventKind::ContactStopped,
+        EventKind::ProximityStopped,
     ] {
         assert!(kinds.contains(&k), "no {k:?} in a settling pile");
     }
@@ -62,7 +62,7 @@ fn ball_on_box_stream() -> String {
         .filter(|e| {
             !matches!(
                 e.kind,
-                EventKind::ProximityPersist | EventKind::TouchPersist
+                EventKind::ProximityPersisted | EventKind::ContactPersisted
             )
         })
         .collect();
@@ -95,14 +95,14 @@ fn two_identical_runs_give_identical_event_streams() {
 fn a_dropped_receiver_is_pruned_and_the_step_goes_on() {
     let mut scene = scenes::ball_on_box();
     let mut layer = ContactLayer::new();
-    let keep = layer.subscribe(Filter::kinds(KindSet::TOUCH));
+    let keep = layer.subscribe(Filter::kinds(KindSet::CONTACT));
     let dropped = layer.subscribe(Filter::all());
     common::run_validated(&mut scene, &mut layer, 0, 10);
     drop(dropped);
     common::run_validated(&mut scene, &mut layer, 10, 100);
     assert_eq!(layer.event_bus().pruned(), 1);
     assert_eq!(layer.event_bus().len(), 1);
-    assert!(keep.try_iter().any(|e| e.kind == EventKind::TouchBegin));
+    assert!(keep.try_iter().any(|e| e.kind == EventKind::ContactStarted));
 }
 
 #[test]
@@ -130,14 +130,16 @@ fn filters_by_kind_and_by_node() {
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 1);
     let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
-    let ball_only = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_nodes(&[ball]));
-    let begins = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])));
+    let ball_only = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[ball]));
+    let begins = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])));
     common::run_validated(&mut scene, &mut layer, 1, 100);
     let got: Vec<_> = ball_only.try_iter().collect();
     assert!(!got.is_empty());
-    assert!(got.iter().all(|e| e.a == ball || e.b == Some(ball)));
-    assert!(got.iter().all(|e| KindSet::TOUCH.contains(e.kind)));
-    assert!(begins.try_iter().all(|e| e.kind == EventKind::TouchBegin));
+    assert!(got.iter().all(|e| e.node1 == ball || e.node2 == Some(ball)));
+    assert!(got.iter().all(|e| KindSet::CONTACT.contains(e.kind)));
+    assert!(begins
+        .try_iter()
+        .all(|e| e.kind == EventKind::ContactStarted));
 }
 
 #[test]
@@ -154,12 +156,14 @@ fn removing_a_body_ends_its_spans() {
     common::run_validated(&mut scene, &mut layer, 120, 1);
     log.drain();
     let ends: Vec<_> = log.events.iter().filter(|e| e.step == 121).collect();
+    assert!(
+        ends.iter()
+            .any(|e| e.kind == EventKind::ContactStopped
+                && (e.node1 == node || e.node2 == Some(node)))
+    );
     assert!(ends
         .iter()
-        .any(|e| e.kind == EventKind::TouchEnd && (e.a == node || e.b == Some(node))));
-    assert!(ends
-        .iter()
-        .any(|e| e.kind == EventKind::ProximityEnd && e.body_a.is_some()));
+        .any(|e| e.kind == EventKind::ProximityStopped && e.body1.is_some()));
     log.agrees_with(&layer);
 }
 
@@ -174,14 +178,14 @@ fn a_container_in_a_node_filter_matches_its_members_events() {
         .next()
         .expect("the pendulum is a multibody");
     let links: Vec<_> = layer.graph().neighbors(mb).map(|(n, _, _)| n).collect();
-    let rx = layer.subscribe(Filter::kinds(KindSet::TOUCH).with_nodes(&[mb]));
+    let rx = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[mb]));
     common::run_validated(&mut scene, &mut layer, 1, 150);
     let got: Vec<_> = rx.try_iter().collect();
     assert!(
-        got.iter().any(|e| e.kind == EventKind::TouchBegin),
+        got.iter().any(|e| e.kind == EventKind::ContactStarted),
         "the links hit the wall"
     );
     assert!(got
         .iter()
-        .all(|e| links.contains(&e.a) || e.b.is_some_and(|b| links.contains(&b))));
+        .all(|e| links.contains(&e.node1) || e.node2.is_some_and(|b| links.contains(&b))));
 }

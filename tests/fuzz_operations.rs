@@ -15,7 +15,7 @@
 //!   (`set_translation(.., true)`) or move a parentless collider; set a velocity; put a
 //!   body to sleep (`RigidBody::sleep`) or wake it; add or remove an impulse joint
 //!   (fixed or revolute) and a multibody joint (revolute);
-//! - **layer:** make a body passive or active (`set_passive`); add or remove a rule
+//! - **layer:** make a body passive or active (`set_body_disabled`); add or remove a rule
 //!   (`Rule::ignore_pair`, `Rule::ignore_between` on live body, static-collider and
 //!   trigger nodes), a timer, a declared composite; subscribe (bounded or not, filtered by kind and node),
 //!   unsubscribe, drop a receiver; switch the speed-ups on, off or to another
@@ -50,12 +50,12 @@
 //! what it still avoids is
 //! - Rapier's own panics and preconditions, which the layer cannot prevent: multibody
 //!   links stay dynamic and get one parent (a rejected insertion corrupts Rapier's
-//!   bookkeeping); no multibody member is made active with `set_passive(false)`
+//!   bookkeeping); no multibody member is made active with `set_body_disabled(false)`
 //!   (Rapier may have quarantined it); no joint or multibody joint to a body Rapier
 //!   disabled itself (quarantined: plain Rapier panics on a joint between two
 //!   disabled bodies, and the layer guards only the bodies it made passive).
 //!
-//! `set_passive(true)` is called on any body: the layer refuses dynamic multibody
+//! `set_body_disabled(true)` is called on any body: the layer refuses dynamic multibody
 //! members (`Error::Unsupported`), and the harness follows `refusals()`.
 //!
 //! # What is checked after every step
@@ -95,7 +95,7 @@
 //!    of both sides (the same screen as `validate()`);
 //! 5. the layer's awake flags equal Rapier's active set (fixed bodies never awake), and
 //!    every body node's passive flag equals `!is_enabled()`, which equals what the user
-//!    last asked with `set_passive` (unless Rapier quarantined the body).
+//!    last asked with `set_body_disabled` (unless Rapier quarantined the body).
 //!
 //! # Running
 //! - default: 256 sequences, fixed seed (deterministic): `cargo test --test

@@ -3,7 +3,7 @@
 //! fixed meanwhile (each failed when found).
 //!
 //! Joints, containers, multibodies and passive bodies: containers that follow joints
-//! and type changes, groups of removed containers, `set_passive` on multibody members,
+//! and type changes, groups of removed containers, `set_body_disabled` on multibody members,
 //! joints to passive bodies, and fixations deferred to a pre-step.
 
 mod common;
@@ -118,8 +118,8 @@ fn fixed_a_removed_container_of_passive_bodies_leaves_its_group() {
     let j = world.insert_impulse_joint(a, b, FixedJointBuilder::new());
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(a, true).unwrap();
-    layer.set_passive(b, true).unwrap();
+    layer.set_body_disabled(a, true).unwrap();
+    layer.set_body_disabled(b, true).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // The container is now a group of its own (its members, passive, are in none).
@@ -171,7 +171,7 @@ fn fixed_switching_subgroup_off_regroups_a_container() {
 
 /// Panicked when this fuzzing found it ("Matrix slicing out of bounds" in Rapier's
 /// `GenericRhs::apply_impulse`: Rapier 0.36 does not carry a disabled multibody
-/// root with enabled links); `set_passive` refuses multibody members since.
+/// root with enabled links); `set_body_disabled` refuses multibody members since.
 #[test]
 fn fixed_set_passive_on_a_multibody_member_is_refused() {
     let mut world = PhysicsWorld::new();
@@ -179,12 +179,12 @@ fn fixed_set_passive_on_a_multibody_member_is_refused() {
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
     for body in [root, link] {
-        match layer.set_passive(body, true) {
+        match layer.set_body_disabled(body, true) {
             Err(Error::Unsupported { .. }) => {}
-            other => panic!("set_passive(true) on a multibody member: {other:?}"),
+            other => panic!("set_body_disabled(true) on a multibody member: {other:?}"),
         }
         // Making it active is always accepted (a no-op here).
-        layer.set_passive(body, false).unwrap();
+        layer.set_body_disabled(body, false).unwrap();
     }
     for _ in 0..5 {
         layer.step(&mut world);
@@ -194,11 +194,11 @@ fn fixed_set_passive_on_a_multibody_member_is_refused() {
     assert!(layer.refusals().is_empty());
 }
 
-/// The same, reached around `set_passive`'s own check: the body becomes a multibody
-/// member between `set_passive` and the pre-step, or after it was made passive.
+/// The same, reached around `set_body_disabled`'s own check: the body becomes a multibody
+/// member between `set_body_disabled` and the pre-step, or after it was made passive.
 #[test]
 fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
-    // Joined between `set_passive` and the pre-step: refused there.
+    // Joined between `set_body_disabled` and the pre-step: refused there.
     let mut world = PhysicsWorld::new();
     arena_floor(&mut world);
     let a = ball_at(&mut world, [0.0, 1.0, 0.0], 0.25).0;
@@ -206,7 +206,7 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25); // overlaps b
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(a, true).unwrap();
+    layer.set_body_disabled(a, true).unwrap();
     let joint = chain_joint();
     world.insert_multibody_joint(a, b, joint).unwrap();
     layer.step(&mut world);
@@ -229,18 +229,18 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(a, true).unwrap();
+    layer.set_body_disabled(a, true).unwrap();
     layer.step(&mut world);
     assert!(!world.bodies[a].is_enabled());
     let na = layer.node_of_body(a).unwrap();
-    assert!(layer.graph().node(na).unwrap().is_passive());
+    assert!(layer.graph().node(na).unwrap().is_body_disabled());
     world.insert_multibody_joint(a, b, joint).unwrap();
     for _ in 0..5 {
         layer.step(&mut world); // panicked in Rapier's step before the guard
         layer.validate(&world).unwrap();
     }
     assert!(world.bodies[a].is_enabled(), "made active again");
-    assert!(!layer.graph().node(na).unwrap().is_passive());
+    assert!(!layer.graph().node(na).unwrap().is_body_disabled());
 }
 
 /// Panicked when this fuzzing found it ("entered unreachable code" in Rapier's
@@ -263,9 +263,9 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         }
         let mut layer = ContactLayer::new();
         layer.step(&mut world);
-        layer.set_passive(passive, true).unwrap();
+        layer.set_body_disabled(passive, true).unwrap();
         if other_passive {
-            layer.set_passive(other, true).unwrap();
+            layer.set_body_disabled(other, true).unwrap();
         }
         layer.step(&mut world);
         // A joint between a passive body and a fixed (or passive) one, added by the
@@ -278,7 +278,7 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
         // Active again: Rapier enables the joint with the body (and a passive other
         // end has it disabled again at the next pre-step).
-        layer.set_passive(passive, false).unwrap();
+        layer.set_body_disabled(passive, false).unwrap();
         for _ in 0..5 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -289,7 +289,7 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             !other_passive
         );
         if other_passive {
-            layer.set_passive(other, false).unwrap();
+            layer.set_body_disabled(other, false).unwrap();
             for _ in 0..5 {
                 layer.step(&mut world);
                 layer.validate(&world).unwrap();
@@ -304,9 +304,9 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             .unwrap()
             .data
             .set_enabled(false);
-        layer.set_passive(passive, true).unwrap();
+        layer.set_body_disabled(passive, true).unwrap();
         layer.step(&mut world);
-        layer.set_passive(passive, false).unwrap();
+        layer.set_body_disabled(passive, false).unwrap();
         layer.step(&mut world);
         assert!(!world.impulse_joints.get(k).unwrap().data.is_enabled());
         assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());
@@ -324,7 +324,7 @@ fn fixed_a_collider_added_to_a_passive_body_gets_no_edges() {
     );
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(cube, true).unwrap();
+    layer.set_body_disabled(cube, true).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // A second collider on the passive body (Rapier enables it and pairs it with
@@ -411,7 +411,7 @@ fn fixed_a_new_fixed_body_jointed_to_a_passive_body_does_not_panic() {
     }
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_passive(floor, true).unwrap();
+    layer.set_body_disabled(floor, true).unwrap();
     layer.step(&mut world);
     let (post, _) = fixed_box_at(&mut world, [3.0, 1.0, 0.0], 0.4);
     world.bodies[floor].set_body_type(RigidBodyType::KinematicVelocityBased, true);
@@ -422,7 +422,7 @@ fn fixed_a_new_fixed_body_jointed_to_a_passive_body_does_not_panic() {
         layer.validate(&world).unwrap();
     }
     assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
-    layer.set_passive(floor, false).unwrap();
+    layer.set_body_disabled(floor, false).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());

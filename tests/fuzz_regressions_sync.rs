@@ -112,7 +112,7 @@ fn sleep_events(
     body: RigidBodyHandle,
 ) -> Vec<rapier_contact_graph::EventKind> {
     rx.try_iter()
-        .filter(|e| e.body_a == Some(body))
+        .filter(|e| e.body1 == Some(body))
         .map(|e| e.kind)
         .collect()
 }
@@ -150,11 +150,11 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
     }
     let kinds: Vec<EventKind> = rx
         .try_iter()
-        .filter(|e| e.body_a == Some(ball))
+        .filter(|e| e.body1 == Some(ball))
         .map(|e| e.kind)
         .collect();
     // Failed before the fix: [FellAsleep, WokeUp, WokeUp]: fixation turns the node Fixed (no
-    // FellAsleep), its release turns it Rigid and awake (WokeUp).
+    // FellAsleep), its release turns it Dynamic and awake (WokeUp).
     for w in kinds.windows(2) {
         assert_ne!(w[0], w[1], "sleep events of the ball: {kinds:?}");
     }
@@ -199,9 +199,9 @@ fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
         layer.step(&mut world);
     }
     assert!(world.bodies[ball].is_sleeping()); // FellAsleep sent
-    layer.set_passive(ball, true).unwrap();
+    layer.set_body_disabled(ball, true).unwrap();
     layer.step(&mut world);
-    layer.set_passive(ball, false).unwrap();
+    layer.set_body_disabled(ball, false).unwrap();
     for _ in 0..200 {
         layer.step(&mut world); // re-enabled awake, then asleep again
     }

@@ -48,7 +48,7 @@ fn fixed_a_rule_naming_a_trigger_keeps_validate() {
 
 /// Failed when this fuzzing found it ("geometric edge .. without an intersecting
 /// Rapier pair": Rapier's filter rejected the intersection, but only rule members
-/// that are bodies were refreshed, so the edge and its `TriggerExit` never came).
+/// that are bodies were refreshed, so the edge and its `SensorStopped` never came).
 /// Passes since rule members of every kind are refreshed.
 #[test]
 fn fixed_a_rule_between_a_trigger_and_static_geometry_ends_their_edge() {
@@ -142,8 +142,8 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
         );
         let mut layer = widened_layer();
         let rx = layer.subscribe(Filter::kinds(KindSet::of(&[
-            EventKind::TriggerEnter,
-            EventKind::TriggerExit,
+            EventKind::SensorStarted,
+            EventKind::SensorStopped,
         ])));
         for _ in 0..200 {
             layer.step(&mut world);
@@ -167,7 +167,7 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
         );
         assert!(g.edge_between(t, f).is_some() && g.edge_between(t, b).is_some());
         let kinds: Vec<EventKind> = rx.try_iter().map(|e| e.kind).collect();
-        assert_eq!(kinds, [EventKind::TriggerEnter; 2]);
+        assert_eq!(kinds, [EventKind::SensorStarted; 2]);
         // And away again: both end.
         world.bodies[post].set_translation(Vector::new(0.0, 5.0, 0.0), true);
         if full_sync {
@@ -177,12 +177,12 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
         layer.validate(&world).unwrap();
         assert_eq!(layer.graph().node(t).unwrap().degree(), 0);
         let kinds: Vec<EventKind> = rx.try_iter().map(|e| e.kind).collect();
-        assert_eq!(kinds, [EventKind::TriggerExit; 2]);
+        assert_eq!(kinds, [EventKind::SensorStopped; 2]);
     }
 }
 
 /// Failed when this fuzzing found it ("geometric edge .. without an intersecting
-/// Rapier pair", and no `TriggerExit`: neither the fixed body nor the parentless
+/// Rapier pair", and no `SensorStopped`: neither the fixed body nor the parentless
 /// sensor was refreshed). Passes since a body whose collider count changed is
 /// refreshed, and a requested full sync refreshes every node (the `set_sensor`
 /// case, which changes no count).
@@ -199,7 +199,7 @@ fn fixed_a_fixed_bodys_collider_removed_inside_a_trigger_ends_its_edge() {
             None,
         );
         let mut layer = widened_layer();
-        let rx = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TriggerExit])));
+        let rx = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::SensorStopped])));
         layer.step(&mut world);
         layer.validate(&world).unwrap();
         assert_eq!(
@@ -215,7 +215,7 @@ fn fixed_a_fixed_bodys_collider_removed_inside_a_trigger_ends_its_edge() {
         }
         layer.step(&mut world);
         layer.validate(&world).unwrap();
-        assert_eq!(rx.try_iter().count(), 1, "TriggerExit");
+        assert_eq!(rx.try_iter().count(), 1, "SensorStopped");
     }
 }
 
@@ -229,7 +229,7 @@ fn fixed_a_sensor_on_a_passive_body_ends_its_edge_when_moved() {
     let (carrier, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
     let mut layer = widened_layer();
     layer.step(&mut world);
-    layer.set_passive(carrier, true).unwrap();
+    layer.set_body_disabled(carrier, true).unwrap();
     layer.step(&mut world);
     // A sensor added to the passive body, inside the floor.
     let sensor = world.insert_collider(ColliderBuilder::ball(0.8).sensor(true), Some(carrier));
@@ -272,7 +272,7 @@ fn fixed_a_collider_of_an_awake_body_turned_sensor_gets_its_trigger_at_once() {
         !h.world.bodies[b].is_sleeping(),
         "the balls push apart: awake"
     );
-    assert_eq!(h.layer.graph().count_of_kind(NodeKind::Trigger), 0);
+    assert_eq!(h.layer.graph().count_of_kind(NodeKind::Sensor), 0);
     h.world.colliders[c].set_sensor(true); // no full sync: the body is awake
     h.layer.step(&mut h.world);
     h.layer.validate(&h.world).unwrap();

@@ -82,7 +82,7 @@ fn fixation_and_release_are_reported_as_sleep_and_wake() {
     let held_at = held_at.expect("the resting box was fixated");
     let slept: Vec<_> = rx
         .try_iter()
-        .filter(|e| e.a == bx_node)
+        .filter(|e| e.node1 == bx_node)
         .map(|e| (e.kind, e.step))
         .collect();
     assert_eq!(
@@ -118,7 +118,7 @@ fn fixation_and_release_are_reported_as_sleep_and_wake() {
     assert!(scene.world.islands.active_bodies().any(|h| h == bx));
     let woke: Vec<_> = rx
         .try_iter()
-        .filter(|e| e.a == bx_node)
+        .filter(|e| e.node1 == bx_node)
         .map(|e| e.kind)
         .collect();
     assert_eq!(woke.first(), Some(&EventKind::WokeUp), "{woke:?}");

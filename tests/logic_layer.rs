@@ -17,7 +17,7 @@ fn transitions(log: &ContractLog) -> Vec<rapier_contact_graph::Event> {
         .filter(|e| {
             !matches!(
                 e.kind,
-                EventKind::ProximityPersist | EventKind::TouchPersist
+                EventKind::ProximityPersisted | EventKind::ContactPersisted
             )
         })
         .collect()
@@ -88,7 +88,10 @@ fn bad_logical_input_is_an_error_and_changes_nothing() {
         Err(Error::WrongKind { .. })
     ));
     let gone = RigidBodyHandle::from_raw_parts(77, 0);
-    assert_eq!(layer.set_passive(gone, true), Err(Error::UnknownBody(gone)));
+    assert_eq!(
+        layer.set_body_disabled(gone, true),
+        Err(Error::UnknownBody(gone))
+    );
     assert!(layer.declare_composite(&[]).is_err());
     let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
     assert!(matches!(
@@ -176,23 +179,23 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
     let h = scene.body("ball").unwrap();
     let ball = layer.node_of_body(h).unwrap();
     scene.world.bodies[h].user_data = 42;
-    layer.set_passive(h, true).unwrap();
+    layer.set_body_disabled(h, true).unwrap();
     common::run_validated(&mut scene, &mut layer, 80, 1);
     log.drain();
     log.passive.insert(ball);
     let node = layer.graph().node(ball).unwrap();
-    assert!(node.is_passive());
+    assert!(node.is_body_disabled());
     assert_eq!(node.degree(), 0, "no edges while passive");
     common::run_validated(&mut scene, &mut layer, 81, 100);
     log.drain();
     assert_eq!(layer.node_of_body(h), Ok(ball), "same node, same handle");
     assert_eq!(scene.world.bodies[h].user_data, 42);
-    layer.set_passive(h, false).unwrap();
+    layer.set_body_disabled(h, false).unwrap();
     log.passive.clear();
     common::run_validated(&mut scene, &mut layer, 181, 100);
     log.drain();
     log.agrees_with(&layer);
-    assert!(!layer.graph().node(ball).unwrap().is_passive());
+    assert!(!layer.graph().node(ball).unwrap().is_body_disabled());
     assert!(layer.graph().touching(ball).count() > 0, "back on the box");
     insta::assert_snapshot!(
         "passive_toggle_events",
@@ -268,7 +271,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     let carrier_t = layer.graph().node_of_sensor(carrier_sensor).unwrap();
     names.set(zone_t, "zone-trigger");
     names.set(carrier_t, "carrier-trigger");
-    assert_eq!(layer.graph().count_of_kind(NodeKind::Trigger), 2);
+    assert_eq!(layer.graph().count_of_kind(NodeKind::Sensor), 2);
     common::run_validated(&mut scene, &mut layer, 1, 300);
     log.drain();
     log.agrees_with(&layer);
@@ -276,7 +279,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
         let b = layer.node_of_body(scene.body(body).unwrap()).unwrap();
         log.events
             .iter()
-            .any(|e| e.kind == EventKind::TriggerEnter && e.a == t && e.b == Some(b))
+            .any(|e| e.kind == EventKind::SensorStarted && e.node1 == t && e.node2 == Some(b))
     };
     assert!(entered(zone_t, "ball"), "dynamic through a fixed trigger");
     assert!(
@@ -299,12 +302,12 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     let exited = log
         .events
         .iter()
-        .any(|e| e.kind == EventKind::TriggerExit && e.a == zone_t);
+        .any(|e| e.kind == EventKind::SensorStopped && e.node1 == zone_t);
     assert!(exited, "the slider leaves the zone");
     assert!(
         !log.events
             .iter()
-            .any(|e| e.a == zone_t && e.b == Some(carrier_t)),
+            .any(|e| e.node1 == zone_t && e.node2 == Some(carrier_t)),
         "trigger–trigger ignored"
     );
     insta::assert_snapshot!(
@@ -312,7 +315,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
         common::format_events(
             &transitions(&log)
                 .into_iter()
-                .filter(|e| matches!(e.kind, EventKind::TriggerEnter | EventKind::TriggerExit))
+                .filter(|e| matches!(e.kind, EventKind::SensorStarted | EventKind::SensorStopped))
                 .collect::<Vec<_>>(),
             &names
         )
@@ -458,7 +461,7 @@ fn scene_stream(mut scene: scenes::Scene, steps: u64) -> String {
 #[test]
 fn a_ball_rolling_through_a_trigger_and_off_a_ledge_event_stream() {
     let stream = scene_stream(scenes::trigger_ledge(), 300);
-    assert!(stream.contains("TriggerEnter") && stream.contains("TriggerExit"));
+    assert!(stream.contains("SensorStarted") && stream.contains("SensorStopped"));
     insta::assert_snapshot!("trigger_ledge_events", stream);
 }
 
@@ -473,6 +476,6 @@ fn a_toppling_stack_event_stream() {
 #[test]
 fn a_multibody_pendulum_hitting_a_wall_event_stream() {
     let stream = scene_stream(scenes::pendulum_wall(), 200);
-    assert!(stream.contains("TouchBegin wall l2") || stream.contains("TouchBegin l2 wall"));
+    assert!(stream.contains("ContactStarted wall l2") || stream.contains("ContactStarted l2 wall"));
     insta::assert_snapshot!("pendulum_wall_events", stream);
 }

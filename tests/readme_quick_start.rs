@@ -15,7 +15,7 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
         ColliderBuilder::ball(0.5),
     );
     let mut layer = ContactLayer::new();
-    let begin_end = KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd]);
+    let begin_end = KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped]);
     let touches = layer.subscribe(Filter::kinds(begin_end).with_bodies(&[ball]));
     for _ in 0..100 {
         layer.step(&mut world);
@@ -38,7 +38,10 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
     assert!(contact.normal_impulse > 0.0);
     let events: Vec<_> = touches.try_iter().collect();
     // One landing: it begins and never ends (a bounce would add an end and a begin).
-    assert_eq!(events.first().map(|e| e.kind), Some(EventKind::TouchBegin));
+    assert_eq!(
+        events.first().map(|e| e.kind),
+        Some(EventKind::ContactStarted)
+    );
     assert!(events.first().is_some_and(|e| e.normal.y.abs() > 0.99));
     assert_eq!(events.len() % 2, 1, "{events:?}");
     Ok(())

@@ -45,7 +45,7 @@ fn scene() -> (PhysicsWorld, ContactLayer) {
     layer.add_rule(Rule::ignore_pair(a, b)).unwrap();
     layer.add_timer(0.07).unwrap();
     layer.add_timer(0.25).unwrap();
-    layer.set_passive(balls[11], true).unwrap();
+    layer.set_body_disabled(balls[11], true).unwrap();
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
     layer.set_monitor(MonitorMode::Report, c, r).unwrap();
     for _ in 0..40 {

@@ -130,7 +130,7 @@ fn a_restored_trigger_ledge_continues_bit_for_bit_with_its_trigger_events() {
             .orig
             .layer
             .graph()
-            .count_of_kind(rapier_contact_graph::NodeKind::Trigger);
+            .count_of_kind(rapier_contact_graph::NodeKind::Sensor);
         assert_eq!(start, 1);
         inside_seen |= t
             .orig
@@ -187,7 +187,7 @@ fn a_restored_layer_with_rules_timers_passive_bodies_and_containers_continues_bi
         // A logical change after the restore, on both sides: the passive body comes
         // back, a timer goes, a rule goes.
         t.both(|_, layer| {
-            layer.set_passive(sleeper, false).unwrap();
+            layer.set_body_disabled(sleeper, false).unwrap();
         });
         t.run(40);
         t.both(|_, layer| {
@@ -285,7 +285,7 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
         );
         layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
         layer.add_timer(0.1).unwrap();
-        layer.set_passive(passive, true).unwrap();
+        layer.set_body_disabled(passive, true).unwrap();
     };
     let mut t = Twins::split_after(
         scenes::sphere_pile(30, 5),

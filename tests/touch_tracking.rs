@@ -46,10 +46,15 @@ fn touch_set(layer: &ContactLayer) -> BTreeSet<(u8, (u32, u32), (u32, u32))> {
     layer
         .last_events()
         .iter()
-        .filter(|e| matches!(e.kind, EventKind::TouchBegin | EventKind::TouchEnd))
+        .filter(|e| {
+            matches!(
+                e.kind,
+                EventKind::ContactStarted | EventKind::ContactStopped
+            )
+        })
         .map(|e| {
-            let a = e.body_a.map_or((u32::MAX, 0), |h| h.into_raw_parts());
-            let b = e.body_b.map_or((u32::MAX, 0), |h| h.into_raw_parts());
+            let a = e.body1.map_or((u32::MAX, 0), |h| h.into_raw_parts());
+            let b = e.body2.map_or((u32::MAX, 0), |h| h.into_raw_parts());
             (e.kind as u8, a.min(b), a.max(b))
         })
         .collect()
@@ -72,7 +77,7 @@ fn touch_events_are_those_of_proximity_tracking() {
         let mut touching = touching_layer();
         // Begin and end only: a subscription to persist events would need proximity
         // tracking.
-        let begin_end = KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd]);
+        let begin_end = KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped]);
         let _ra = proximity.subscribe(Filter::kinds(begin_end));
         let _rb = touching.subscribe(Filter::kinds(begin_end));
         let mut seen = 0;
@@ -102,10 +107,10 @@ fn touch_events_are_those_of_proximity_tracking() {
             "{name}"
         );
         // No proximity events, no persist events, in touching tracking.
-        assert!(touching
-            .last_events()
-            .iter()
-            .all(|e| !matches!(e.kind, EventKind::ProximityBegin | EventKind::ProximityEnd)));
+        assert!(touching.last_events().iter().all(|e| !matches!(
+            e.kind,
+            EventKind::ProximityStarted | EventKind::ProximityStopped
+        )));
     }
 }
 
@@ -262,7 +267,7 @@ fn touching_tracking_yields_while_someone_asks_for_proximity() {
     let mut layer = ContactLayer::new();
     layer.set_tracking(Tracking::Touching);
     let touches = layer.subscribe(Filter::kinds(
-        KindSet::TOUCH.without(KindSet::of(&[EventKind::TouchPersist])),
+        KindSet::CONTACT.without(KindSet::of(&[EventKind::ContactPersisted])),
     ));
     common::run_validated(&mut scene, &mut layer, 0, 50);
     assert_eq!(layer.coherence().tracking(), Tracking::Touching);

@@ -97,8 +97,8 @@ fn passing_the_handler_switches_on_and_stopping_switches_back_without_losing_a_t
     }
     let mut layer = ContactLayer::new();
     let touches = layer.subscribe(Filter::kinds(KindSet::of(&[
-        EventKind::TouchBegin,
-        EventKind::TouchEnd,
+        EventKind::ContactStarted,
+        EventKind::ContactStopped,
     ])));
     let plan = [
         (Feed::None, 20),
@@ -121,12 +121,12 @@ fn passing_the_handler_switches_on_and_stopping_switches_back_without_losing_a_t
             };
             assert_eq!(layer.coherence().tracking(), want, "step {k} of {steps}");
             for e in touches.try_iter() {
-                let d = if e.kind == EventKind::TouchBegin {
+                let d = if e.kind == EventKind::ContactStarted {
                     1
                 } else {
                     -1
                 };
-                for b in [e.body_a, e.body_b].into_iter().flatten() {
+                for b in [e.body1, e.body2].into_iter().flatten() {
                     *open.entry(b).or_default() += d;
                 }
             }
@@ -169,7 +169,8 @@ fn speedups_or_a_persist_subscription_switch_to_proximity_until_they_go() {
         }
     };
     run(&mut layer, 0, 10, Tracking::Touching);
-    let (id, _rx) = layer.subscribe_with_id(Filter::kinds(KindSet::of(&[EventKind::TouchPersist])));
+    let (id, _rx) =
+        layer.subscribe_with_id(Filter::kinds(KindSet::of(&[EventKind::ContactPersisted])));
     run(&mut layer, 0, 10, Tracking::Proximity);
     layer.unsubscribe(id);
     run(&mut layer, 0, 10, Tracking::Touching);

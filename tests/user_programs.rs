@@ -138,10 +138,13 @@ fn a_mixed_scene_with_a_sensor_on_a_moving_platform() {
     } = mixed_scene();
     let mut layer = ContactLayer::new();
     let watched = dynamic[0];
-    let sensor_events = layer.subscribe(Filter::kinds(KindSet::TRIGGER).with_colliders(&[sensor]));
+    let sensor_events = layer.subscribe(Filter::kinds(KindSet::SENSOR).with_colliders(&[sensor]));
     let ball_events = layer.subscribe(
-        Filter::kinds(KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd]))
-            .with_bodies(&[watched]),
+        Filter::kinds(KindSet::of(&[
+            EventKind::ContactStarted,
+            EventKind::ContactStopped,
+        ]))
+        .with_bodies(&[watched]),
     );
     let mut entered = 0;
     let mut ball_touches = 0;
@@ -153,15 +156,15 @@ fn a_mixed_scene_with_a_sensor_on_a_moving_platform() {
         layer.validate(&world).unwrap();
 
         for e in sensor_events.try_iter() {
-            assert_eq!(e.collider_a, Some(sensor), "{e:?}: the sensor is named");
-            assert_eq!(e.body_a, Some(platform), "{e:?}: its carrier is named");
-            let body = e.body_b.expect("the body entering or leaving");
+            assert_eq!(e.collider1, Some(sensor), "{e:?}: the sensor is named");
+            assert_eq!(e.body1, Some(platform), "{e:?}: its carrier is named");
+            let body = e.body2.expect("the body entering or leaving");
             assert!(dynamic.contains(&body), "{e:?}");
-            entered += usize::from(e.kind == EventKind::TriggerEnter);
+            entered += usize::from(e.kind == EventKind::SensorStarted);
         }
         for e in ball_events.try_iter() {
             assert!(
-                e.body_a == Some(watched) || e.body_b == Some(watched),
+                e.body1 == Some(watched) || e.body2 == Some(watched),
                 "{e:?}"
             );
             ball_touches += 1;
@@ -235,7 +238,7 @@ fn a_pile_with_the_presets_keeps_warm_start_and_is_held_or_asleep() {
             );
             assert_eq!(p.contact_recycling, params.contact_recycling, "{name}");
             for e in sleep.try_iter() {
-                let body = e.body_a.expect("a sleep event names its body");
+                let body = e.body1.expect("a sleep event names its body");
                 if e.kind == EventKind::FellAsleep {
                     fell_asleep.insert(body.into_raw_parts());
                 } else {

@@ -38,7 +38,7 @@ fn baseline() -> &'static (Vec<u8>, Vec<u8>) {
         let b = layer.node_of_body(balls[1]).unwrap();
         layer.add_rule(Rule::ignore_pair(a, b)).unwrap();
         layer.add_timer(0.07).unwrap();
-        layer.set_passive(balls[11], true).unwrap();
+        layer.set_body_disabled(balls[11], true).unwrap();
         for _ in 0..40 {
             layer.step(&mut world);
         }

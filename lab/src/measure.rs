@@ -388,7 +388,7 @@ pub fn run(
         awake_series.push(awake as u32);
         let want_groups = !matches!(&spec.mode, Mode::Layer(s) if !s.groups) && layered;
         if want_groups {
-            groups_sum += stats.groups.groups as f64;
+            groups_sum += stats.groups.count as f64;
             max_vars = max_vars.max(stats.groups.largest_variables);
         }
         ms_speed_series.push(mean_square_speed(&scene, opts.bodies) as f32);

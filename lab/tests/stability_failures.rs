@@ -325,7 +325,7 @@ fn run_repaired(case: &StabilityCase, spec: &RunSpec) -> Violations {
     for step in 0..case.steps {
         common::step_validated(&mut scene, &mut layer, step);
     }
-    let t = layer.monitor().unwrap().monitor().totals();
+    let t = layer.violation_totals().unwrap();
     Violations {
         hanging: t.hanging_sleeper,
         launch: t.launch,

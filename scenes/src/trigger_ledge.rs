@@ -3,10 +3,10 @@
 //!
 //! It is the scene for trigger volumes: in about 250 steps one body enters a trigger,
 //! leaves it, loses its support, falls and lands, so a single run shows
-//! `TriggerEnter`, `TriggerExit`, a `TouchEnd` with the table and a `TouchBegin` with
+//! `SensorStarted`, `SensorStopped`, a `ContactStopped` with the table and a `ContactStarted` with
 //! the floor, in that order. The trigger is a cuboid *sensor* collider on its own
 //! fixed body (so it has a body handle for names, and the layer makes the sensor a
-//! `Trigger` node); it floats a little above the table-top so that it never overlaps
+//! `Sensor` node); it floats a little above the table-top so that it never overlaps
 //! the table itself, only the ball rolling under it. The ball starts resting on the
 //! table with an initial velocity of 2 m/s along +x; friction turns the slide into a
 //! roll within a few steps, and a rolling ball does not fall asleep, so `can_sleep`

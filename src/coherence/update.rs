@@ -272,9 +272,9 @@ impl Coherence {
         // body's adjacency (which reaches every pair twice); otherwise the walk keeps
         // the cost proportional to the refreshed bodies.
         let walk = std::mem::take(&mut self.walk);
-        let moving = graph.count_of_kind(NodeKind::Rigid)
+        let moving = graph.count_of_kind(NodeKind::Dynamic)
             + graph.count_of_kind(NodeKind::Link)
-            + graph.count_of_kind(NodeKind::Scripted);
+            + graph.count_of_kind(NodeKind::Kinematic);
         let scan = match self.scan {
             // Nothing refreshed (everything asleep or held): nothing to scan.
             ScanPolicy::Auto => !walk.is_empty() && 2 * walk.len() >= moving,
@@ -346,14 +346,14 @@ impl Coherence {
             created_now
                 .iter()
                 .copied()
-                .filter(|&n| graph.node(n).is_some_and(|n| n.kind == NodeKind::Trigger)),
+                .filter(|&n| graph.node(n).is_some_and(|n| n.kind == NodeKind::Sensor)),
         );
         to_read.append(&mut self.pending_triggers);
         for t in to_read {
             self.walk_trigger(graph, view, screen, t);
         }
         self.read_changed_triggers(graph, view, screen);
-        if graph.count_of_kind(NodeKind::Trigger) > 0 {
+        if graph.count_of_kind(NodeKind::Sensor) > 0 {
             for &me in walk.iter().chain(&created_now).chain(&parked) {
                 self.walk_body_sensors(graph, view, screen, me);
             }

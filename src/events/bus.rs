@@ -193,7 +193,8 @@ fn matches(filter: &Filter, ev: &Event, graph: &ContactGraph) -> bool {
     match filter.nodes() {
         None => by_handle.is_none(),
         Some(set) => {
-            member_of_any(ev.a, set, graph) || ev.b.is_some_and(|b| member_of_any(b, set, graph))
+            member_of_any(ev.node1, set, graph)
+                || ev.node2.is_some_and(|b| member_of_any(b, set, graph))
         }
     }
 }

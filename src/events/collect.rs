@@ -79,13 +79,13 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     }
     let step = m.step;
     let body = |n: NodeId| m.body(n);
-    let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Trigger);
+    let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Sensor);
     let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
         if wanted.contains(kind) {
             let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
-            e.collider_a = m.collider(a);
-            e.collider_b = b.and_then(|b| m.collider(b));
-            if let (EventKind::TouchBegin | EventKind::TouchPersist, Some(b)) = (kind, b) {
+            e.collider1 = m.collider(a);
+            e.collider2 = b.and_then(|b| m.collider(b));
+            if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) = (kind, b) {
                 (e.normal, e.impulse) = m.contact(a, b);
             }
             out.push(e);
@@ -132,22 +132,22 @@ fn edge_events(
             let p = e.proximity_mark(step);
             let t = e.touching_mark(step);
             if p == Some(Transition::New) {
-                push(EventKind::ProximityBegin, a, b, 0);
+                push(EventKind::ProximityStarted, a, b, 0);
             }
             if t == Some(Transition::New) {
-                push(EventKind::TouchBegin, a, b, 0);
+                push(EventKind::ContactStarted, a, b, 0);
             }
             if persist && p == Some(Transition::Persistent) {
-                push(EventKind::ProximityPersist, a, b, 0);
+                push(EventKind::ProximityPersisted, a, b, 0);
             }
             if persist && t == Some(Transition::Persistent) {
-                push(EventKind::TouchPersist, a, b, 0);
+                push(EventKind::ContactPersisted, a, b, 0);
             }
             if t == Some(Transition::Vanished) {
-                push(EventKind::TouchEnd, a, b, 0);
+                push(EventKind::ContactStopped, a, b, 0);
             }
             if p == Some(Transition::Vanished) {
-                push(EventKind::ProximityEnd, a, b, 0);
+                push(EventKind::ProximityStopped, a, b, 0);
             }
         }
         EdgeKind::Geometric => {
@@ -158,8 +158,10 @@ fn edge_events(
                 (e.b(), e.a())
             };
             match e.proximity_mark(step) {
-                Some(Transition::New) => push(EventKind::TriggerEnter, trigger, Some(body), 0),
-                Some(Transition::Vanished) => push(EventKind::TriggerExit, trigger, Some(body), 0),
+                Some(Transition::New) => push(EventKind::SensorStarted, trigger, Some(body), 0),
+                Some(Transition::Vanished) => {
+                    push(EventKind::SensorStopped, trigger, Some(body), 0)
+                }
                 _ => {}
             }
         }

@@ -6,22 +6,25 @@
 //!   step, so a receiver may read the graph (through the layer) while handling events.
 //! - **Which step.** Every event carries the index of the step it describes
 //!   ([`crate::ContactLayer::current_step`] right after that step).
-//! - **Pairs.** `a` is the node with the smaller slot index (the paper's *A*), `b`
-//!   the other; for trigger events `a` is the trigger and `b` the body.
-//! - **Lifecycle.** For a pair, every `ProximityBegin` is followed by zero or more
-//!   `ProximityPersist` and exactly one `ProximityEnd`; likewise `TouchBegin` /
-//!   `TouchPersist` / `TouchEnd`, always nested inside the proximity span;
-//!   `TriggerEnter` and `TriggerExit` alternate. Removing a body (or making it
+//! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
+//!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
+//!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
+//!   `collider1` / `collider2` name a pair's two colliders.
+//! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
+//!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
+//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
+//!   proximity span;
+//!   `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
 //!   passive) ends every span it is part of, in the step the layer sees it go.
-//! - **Persist events** are sent only for pairs with an awake body; the pairs of
+//! - **Persisted events** are sent only for pairs with an awake body; the pairs of
 //!   sleeping bodies are frozen (queries on the graph stay exact for them).
 //! - **Order within a step** (deterministic: the same inputs give the same stream):
-//!   1. ends of edges removed with a node (`TouchEnd`, `ProximityEnd`, `TriggerExit`),
-//!      in removal order;
+//!   1. ends of edges removed with a node (`ContactStopped`, `ProximityStopped`,
+//!      `SensorStopped`), in removal order;
 //!   2. edge events, edge by edge in the order the analysis refreshed them (Rapier's
-//!      pair order, then vanished edges): `ProximityBegin`, `TouchBegin`,
-//!      `ProximityPersist`, `TouchPersist`, `TouchEnd`, `ProximityEnd`;
-//!      trigger edges give `TriggerEnter` / `TriggerExit`;
+//!      pair order, then vanished edges): `ProximityStarted`, `ContactStarted`,
+//!      `ProximityPersisted`, `ContactPersisted`, `ContactStopped`, `ProximityStopped`;
+//!      trigger edges give `SensorStarted` / `SensorStopped`;
 //!   3. `FellAsleep` / `WokeUp`, in the order the bodies were refreshed;
 //!   4. `TimerTick`, timers in slot order, ticks ascending;
 //!   5. `Violation`, then `Repaired` (monitor on): by violation kind, then body
@@ -47,26 +50,44 @@ use crate::graph::NodeId;
 pub const MAX_CAPACITY: usize = 1 << 24;
 
 /// The kinds of event.
+///
+/// Named as Rapier names its collision events (`CollisionEvent::Started` /
+/// `Stopped`): `Contact*` for touching pairs (the paper's touch begin / end),
+/// `Sensor*` for bodies entering and leaving a sensor collider (the paper's trigger
+/// volume), `Proximity*` for narrow-phase pairs. The names of 0.1 remain as
+/// deprecated aliases (`TouchBegin`, `TriggerEnter`, …), and serialised events
+/// written with them still load.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[repr(u8)]
 pub enum EventKind {
     /// Two bodies came into close proximity (a Rapier narrow-phase pair appeared).
-    ProximityBegin = 0,
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityBegin"))]
+    ProximityStarted = 0,
     /// Two awake bodies stayed in close proximity.
-    ProximityPersist = 1,
-    /// Two bodies left close proximity (or one was removed or made passive).
-    ProximityEnd = 2,
-    /// Two bodies started touching.
-    TouchBegin = 3,
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityPersist"))]
+    ProximityPersisted = 1,
+    /// Two bodies left close proximity (or one was removed or disabled).
+    #[cfg_attr(feature = "serde", serde(alias = "ProximityEnd"))]
+    ProximityStopped = 2,
+    /// Two bodies started touching (Rapier's `CollisionEvent::Started` of a
+    /// non-sensor pair; the paper's touch begin).
+    #[cfg_attr(feature = "serde", serde(alias = "TouchBegin"))]
+    ContactStarted = 3,
     /// Two bodies, one awake, kept touching.
-    TouchPersist = 4,
-    /// Two bodies stopped touching.
-    TouchEnd = 5,
-    /// A body entered a trigger volume.
-    TriggerEnter = 6,
-    /// A body left a trigger volume.
-    TriggerExit = 7,
+    #[cfg_attr(feature = "serde", serde(alias = "TouchPersist"))]
+    ContactPersisted = 4,
+    /// Two bodies stopped touching (Rapier's `CollisionEvent::Stopped`; the paper's
+    /// touch end).
+    #[cfg_attr(feature = "serde", serde(alias = "TouchEnd"))]
+    ContactStopped = 5,
+    /// A body entered a sensor collider (Rapier's `CollisionEvent::Started` with a
+    /// sensor; the paper's trigger enter).
+    #[cfg_attr(feature = "serde", serde(alias = "TriggerEnter"))]
+    SensorStarted = 6,
+    /// A body left a sensor collider (the paper's trigger exit).
+    #[cfg_attr(feature = "serde", serde(alias = "TriggerExit"))]
+    SensorStopped = 7,
     /// A timer's period elapsed.
     TimerTick = 8,
     /// A body fell asleep.
@@ -74,28 +95,39 @@ pub enum EventKind {
     /// A body woke up.
     WokeUp = 10,
     /// The plausibility monitor found a violation (paper §8):
-    /// `a` is the body's node, `violation` the kind, `value` the measure. Sent only
+    /// `node1` is the body's node, `violation` the kind, `value` the measure. Sent only
     /// with the layer's monitor in report or repair mode
     /// ([`crate::ContactLayer::set_monitor`]).
     Violation = 11,
-    /// The monitor in repair mode acted to prevent a violation: `a` is the body's
+    /// The monitor in repair mode acted to prevent a violation: `node1` is the body's
     /// node, `violation` the kind it prevents, `value` the measure when it acted
     /// (seconds unsupported; excess joules; for a deep penetration, the depth as a
     /// fraction of the limit).
     Repaired = 12,
 }
 
+renamed_consts!(EventKind:
+    ProximityBegin => ProximityStarted, "renamed to EventKind::ProximityStarted, Rapier's name";
+    ProximityPersist => ProximityPersisted, "renamed to EventKind::ProximityPersisted, Rapier's name";
+    ProximityEnd => ProximityStopped, "renamed to EventKind::ProximityStopped, Rapier's name";
+    TouchBegin => ContactStarted, "renamed to EventKind::ContactStarted, Rapier's name";
+    TouchPersist => ContactPersisted, "renamed to EventKind::ContactPersisted, Rapier's name";
+    TouchEnd => ContactStopped, "renamed to EventKind::ContactStopped, Rapier's name";
+    TriggerEnter => SensorStarted, "renamed to EventKind::SensorStarted, Rapier's name";
+    TriggerExit => SensorStopped, "renamed to EventKind::SensorStopped, Rapier's name";
+);
+
 impl EventKind {
     /// All kinds, in declaration order.
     pub const ALL: [EventKind; 13] = [
-        EventKind::ProximityBegin,
-        EventKind::ProximityPersist,
-        EventKind::ProximityEnd,
-        EventKind::TouchBegin,
-        EventKind::TouchPersist,
-        EventKind::TouchEnd,
-        EventKind::TriggerEnter,
-        EventKind::TriggerExit,
+        EventKind::ProximityStarted,
+        EventKind::ProximityPersisted,
+        EventKind::ProximityStopped,
+        EventKind::ContactStarted,
+        EventKind::ContactPersisted,
+        EventKind::ContactStopped,
+        EventKind::SensorStarted,
+        EventKind::SensorStopped,
         EventKind::TimerTick,
         EventKind::FellAsleep,
         EventKind::WokeUp,
@@ -117,21 +149,27 @@ impl KindSet {
     pub const NONE: KindSet = KindSet(0);
     /// Every kind.
     pub const ALL: KindSet = KindSet((1 << EventKind::ALL.len()) - 1);
-    /// Proximity begin / persist / end.
+    /// Proximity started / persisted / stopped.
     pub const PROXIMITY: KindSet = KindSet(0b000_0000_0111);
-    /// Touch begin / persist / end.
-    pub const TOUCH: KindSet = KindSet(0b000_0011_1000);
-    /// Trigger enter / exit.
-    pub const TRIGGER: KindSet = KindSet(0b000_1100_0000);
+    /// Contact started / persisted / stopped (the paper's touch begin / persist / end).
+    pub const CONTACT: KindSet = KindSet(0b000_0011_1000);
+    /// Sensor started / stopped (the paper's trigger enter / exit).
+    pub const SENSOR: KindSet = KindSet(0b000_1100_0000);
+    /// What Rapier's `ActiveEvents::COLLISION_EVENTS` gives: contact started / stopped
+    /// and sensor started / stopped (`CollisionEvent::Started` / `Stopped`). The
+    /// subscription for "who touches what" that costs least: unlike
+    /// [`Self::CONTACT`], it leaves out `ContactPersisted`, which needs every pair
+    /// read each step.
+    pub const COLLISION_EVENTS: KindSet = KindSet(0b000_1110_1000);
     /// Fell asleep / woke up.
     pub const SLEEP: KindSet = KindSet(0b110_0000_0000);
     /// Violation / repaired (the plausibility monitor's).
     pub const MONITOR: KindSet = KindSet(0b1_1000_0000_0000);
-    /// The kinds only proximity tracking produces (`Proximity*` and `TouchPersist`):
+    /// The kinds only proximity tracking produces (`Proximity*` and `ContactPersisted`):
     /// a subscription to one of them needs every pair read each step
     /// ([`crate::coherence::Tracking`]).
     pub const NEEDS_EVERY_PAIR: KindSet =
-        KindSet(KindSet::PROXIMITY.0 | 1 << EventKind::TouchPersist as u16);
+        KindSet(KindSet::PROXIMITY.0 | 1 << EventKind::ContactPersisted as u16);
 
     /// The set of the given kinds.
     pub fn of(kinds: &[EventKind]) -> KindSet {
@@ -163,7 +201,12 @@ impl KindSet {
     }
 }
 
-/// `KindSet::TOUCH | KindSet::TRIGGER`, as Rapier's flags combine.
+renamed_consts!(KindSet:
+    TOUCH => CONTACT, "renamed to KindSet::CONTACT, Rapier's name";
+    TRIGGER => SENSOR, "renamed to KindSet::SENSOR, Rapier's name";
+);
+
+/// `KindSet::CONTACT | KindSet::SENSOR`, as Rapier's flags combine.
 impl std::ops::BitOr for KindSet {
     type Output = KindSet;
     #[inline]
@@ -179,7 +222,7 @@ impl std::ops::BitOrAssign for KindSet {
     }
 }
 
-/// `KindSet::TOUCH | EventKind::FellAsleep`.
+/// `KindSet::CONTACT | EventKind::FellAsleep`.
 impl std::ops::BitOr<EventKind> for KindSet {
     type Output = KindSet;
     #[inline]
@@ -188,7 +231,7 @@ impl std::ops::BitOr<EventKind> for KindSet {
     }
 }
 
-/// `EventKind::TouchBegin | EventKind::TouchEnd`.
+/// `EventKind::ContactStarted | EventKind::ContactStopped`.
 impl std::ops::BitOr for EventKind {
     type Output = KindSet;
     #[inline]
@@ -205,6 +248,12 @@ impl From<EventKind> for KindSet {
 
 /// One event. `Copy`, at most 112 bytes: cheap to send (checked by a unit test).
 ///
+/// The two things an event names are `1` and `2`, as Rapier's `collider1` /
+/// `collider2` (the paper's *A* and *B*): [`Self::node1`] / [`Self::node2`], their
+/// bodies [`Self::body1`] / [`Self::body2`] and colliders [`Self::collider1`] /
+/// [`Self::collider2`]. (Named `a` / `b`, `body_a` / `body_b`, `collider_a` /
+/// `collider_b` before 0.2; serialised events with those names still load.)
+///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -213,24 +262,31 @@ pub struct Event {
     pub step: u64,
     /// What happened.
     pub kind: EventKind,
-    /// The pair's *A* node, the trigger, the timer, or the body that slept or woke.
-    pub a: NodeId,
-    /// The pair's *B* node, or the body entering or leaving the trigger.
-    pub b: Option<NodeId>,
-    /// The Rapier body of `a`, if it is (or was) a body; for a trigger, the body
+    /// The pair's first node (the paper's *A*: the smaller slot index), the sensor,
+    /// the timer, or the body that slept or woke.
+    #[cfg_attr(feature = "serde", serde(alias = "a"))]
+    pub node1: NodeId,
+    /// The pair's second node (the paper's *B*), or the body entering or leaving the
+    /// sensor.
+    #[cfg_attr(feature = "serde", serde(alias = "b"))]
+    pub node2: Option<NodeId>,
+    /// The Rapier body of `node1`, if it is (or was) a body; for a sensor, the body
     /// carrying its sensor collider.
-    pub body_a: Option<RigidBodyHandle>,
-    /// The Rapier body of `b`, if it is (or was) a body.
-    pub body_b: Option<RigidBodyHandle>,
-    /// The collider `a` stands for, if it stands for one: a trigger's sensor collider
-    /// (so a trigger event names the sensor that fired), or a parentless collider.
-    /// `None` for a body: a body pair aggregates all its collider pairs (read them
-    /// from Rapier's narrow phase with `contact_pair`).
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub collider_a: Option<ColliderHandle>,
-    /// The collider `b` stands for, as [`Self::collider_a`].
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub collider_b: Option<ColliderHandle>,
+    #[cfg_attr(feature = "serde", serde(alias = "body_a"))]
+    pub body1: Option<RigidBodyHandle>,
+    /// The Rapier body of `node2`, if it is (or was) a body.
+    #[cfg_attr(feature = "serde", serde(alias = "body_b"))]
+    pub body2: Option<RigidBodyHandle>,
+    /// The collider `node1` stands for, if it stands for one, as Rapier's `collider1`:
+    /// a sensor collider (so a sensor event names the sensor that fired), or a
+    /// parentless collider. `None` for a body: a body pair aggregates all its
+    /// collider pairs (read them from Rapier's narrow phase with `contact_pair`).
+    #[cfg_attr(feature = "serde", serde(default, alias = "collider_a"))]
+    pub collider1: Option<ColliderHandle>,
+    /// The collider `node2` stands for, as Rapier's `collider2`; see
+    /// [`Self::collider1`].
+    #[cfg_attr(feature = "serde", serde(default, alias = "collider_b"))]
+    pub collider2: Option<ColliderHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
     pub tick: u64,
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the kind of
@@ -239,16 +295,17 @@ pub struct Event {
     /// For [`EventKind::Violation`] and [`EventKind::Repaired`]: the measure (see
     /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
-    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the normal of the
-    /// pair's deepest contact in the step, a unit vector pointing from `a` towards `b`
-    /// (`b` is pushed along it); zero for other kinds, or when Rapier had no contact
-    /// point. Read from the edge's per-step details, or from Rapier's narrow phase
-    /// when those are not kept (touching tracking, details off).
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the
+    /// normal of the pair's deepest contact in the step, a unit vector pointing from
+    /// `node1` towards `node2` (`node2` is pushed along it); zero for other kinds, or
+    /// when Rapier had no contact point. Read from the edge's per-step details, or
+    /// from Rapier's narrow phase when those are not kept (touching tracking, details
+    /// off).
     #[cfg_attr(feature = "serde", serde(default))]
     pub normal: Vector,
-    /// For [`EventKind::TouchBegin`] and [`EventKind::TouchPersist`]: the sum of the
-    /// normal impulses Rapier's solver applied to the pair's contacts in the step
-    /// (N·s); 0 otherwise.
+    /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the sum
+    /// of the normal impulses Rapier's solver applied to the pair's contacts in the
+    /// step (N·s); 0 otherwise.
     #[cfg_attr(feature = "serde", serde(default))]
     pub impulse: Real,
 }
@@ -258,21 +315,21 @@ impl Event {
     pub(crate) fn plain(
         step: u64,
         kind: EventKind,
-        a: NodeId,
-        b: Option<NodeId>,
-        body_a: Option<RigidBodyHandle>,
-        body_b: Option<RigidBodyHandle>,
+        node1: NodeId,
+        node2: Option<NodeId>,
+        body1: Option<RigidBodyHandle>,
+        body2: Option<RigidBodyHandle>,
         tick: u64,
     ) -> Self {
         Self {
             step,
             kind,
-            a,
-            b,
-            body_a,
-            body_b,
-            collider_a: None,
-            collider_b: None,
+            node1,
+            node2,
+            body1,
+            body2,
+            collider1: None,
+            collider2: None,
             tick,
             violation: None,
             value: 0.0,
@@ -285,12 +342,12 @@ impl Event {
         (
             self.step,
             self.kind,
-            self.a,
-            self.b,
-            self.body_a,
-            self.body_b,
-            self.collider_a,
-            self.collider_b,
+            self.node1,
+            self.node2,
+            self.body1,
+            self.body2,
+            self.collider1,
+            self.collider2,
             self.tick,
             self.violation,
             (
@@ -320,14 +377,14 @@ impl std::hash::Hash for Event {
 /// by Rapier handle or by node.
 ///
 /// - [`Self::with_bodies`]: events naming one of the bodies in
-///   [`Event::body_a`] or [`Event::body_b`]: its touches, the triggers it enters and
-///   leaves, its sleep, the monitor's reports on it, and the trigger events of
-///   sensors it carries (a trigger's `body_a` is its carrier).
+///   [`Event::body1`] or [`Event::body2`]: its contacts, the sensors it enters and
+///   leaves, its sleep, the monitor's reports on it, and the sensor events of
+///   sensors it carries (a sensor event's `body1` is its carrier).
 /// - [`Self::with_colliders`]: events naming one of the colliders in
-///   [`Event::collider_a`] or [`Event::collider_b`]: a sensor's trigger events, a
+///   [`Event::collider1`] or [`Event::collider2`]: a sensor's events, a
 ///   parentless collider's touches. A body's own colliders are not named by its
 ///   events (a body pair aggregates its collider pairs): filter by its body.
-/// - [`Self::with_nodes`]: events whose `a` or `b` is one of the nodes, or a member
+/// - [`Self::with_nodes`]: events whose `node1` or `node2` is one of the nodes, or a member
 ///   of one of them (a container node matches the events of its bodies); for what has
 ///   no Rapier handle (rules, timers, containers).
 ///
@@ -339,14 +396,14 @@ impl std::hash::Hash for Event {
 /// ```
 /// use rapier3d::prelude::*;
 /// use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-/// let f = Filter::kinds(KindSet::TOUCH).or_kind(EventKind::TriggerEnter);
-/// assert!(f.kinds_set().contains(EventKind::TouchBegin));
-/// assert!(!f.kinds_set().contains(EventKind::ProximityBegin));
+/// let f = Filter::kinds(KindSet::CONTACT).or_kind(EventKind::SensorStarted);
+/// assert!(f.kinds_set().contains(EventKind::ContactStarted));
+/// assert!(!f.kinds_set().contains(EventKind::ProximityStarted));
 ///
 /// // The touches of one body, by its Rapier handle.
 /// let mut bodies = RigidBodySet::new();
 /// let ball = bodies.insert(RigidBodyBuilder::dynamic());
-/// let touches_of_ball = Filter::kinds(KindSet::TOUCH).with_bodies(&[ball]);
+/// let touches_of_ball = Filter::kinds(KindSet::CONTACT).with_bodies(&[ball]);
 /// assert_eq!(touches_of_ball.bodies(), Some(&[ball][..]));
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -404,12 +461,7 @@ impl Filter {
         }
         let body = |h| holds(self.bodies.as_deref(), h, RigidBodyHandle::into_raw_parts);
         let collider = |c| holds(self.colliders.as_deref(), c, ColliderHandle::into_raw_parts);
-        Some(
-            body(ev.body_a)
-                || body(ev.body_b)
-                || collider(ev.collider_a)
-                || collider(ev.collider_b),
-        )
+        Some(body(ev.body1) || body(ev.body2) || collider(ev.collider1) || collider(ev.collider2))
     }
     /// Adds a kind.
     pub fn or_kind(mut self, kind: EventKind) -> Self {
@@ -489,21 +541,72 @@ impl ViolationKind {
 mod tests {
     use super::*;
 
+    /// Rapier's collision events: contact and sensor starts and stops, nothing that
+    /// needs every pair read.
+    #[test]
+    fn collision_events_are_rapiers_started_and_stopped() {
+        let want = KindSet::of(&[
+            EventKind::ContactStarted,
+            EventKind::ContactStopped,
+            EventKind::SensorStarted,
+            EventKind::SensorStopped,
+        ]);
+        assert_eq!(KindSet::COLLISION_EVENTS, want);
+        assert!(!KindSet::COLLISION_EVENTS.intersects(KindSet::NEEDS_EVERY_PAIR));
+        assert_eq!(
+            KindSet::COLLISION_EVENTS,
+            (KindSet::CONTACT | KindSet::SENSOR).without(KindSet::NEEDS_EVERY_PAIR)
+        );
+    }
+
+    /// The deprecated names of 0.1 are the renamed kinds and sets, with the same
+    /// discriminants, in expressions and in patterns.
+    #[test]
+    #[allow(deprecated)]
+    fn deprecated_kind_names_are_the_new_kinds() {
+        let pairs = [
+            (EventKind::ProximityBegin, EventKind::ProximityStarted),
+            (EventKind::ProximityPersist, EventKind::ProximityPersisted),
+            (EventKind::ProximityEnd, EventKind::ProximityStopped),
+            (EventKind::TouchBegin, EventKind::ContactStarted),
+            (EventKind::TouchPersist, EventKind::ContactPersisted),
+            (EventKind::TouchEnd, EventKind::ContactStopped),
+            (EventKind::TriggerEnter, EventKind::SensorStarted),
+            (EventKind::TriggerExit, EventKind::SensorStopped),
+        ];
+        for (i, (old, new)) in pairs.into_iter().enumerate() {
+            assert_eq!(old, new);
+            assert_eq!(new as u8, i as u8, "discriminants kept");
+        }
+        assert!(matches!(EventKind::ContactStarted, EventKind::TouchBegin));
+        assert!(!matches!(EventKind::ContactStopped, EventKind::TouchBegin));
+        assert_eq!(KindSet::TOUCH, KindSet::CONTACT);
+        assert_eq!(KindSet::TRIGGER, KindSet::SENSOR);
+        assert_eq!(
+            KindSet::CONTACT,
+            EventKind::ContactStarted | EventKind::ContactPersisted | EventKind::ContactStopped
+        );
+        assert_eq!(
+            KindSet::SENSOR,
+            EventKind::SensorStarted | EventKind::SensorStopped
+        );
+    }
+
     #[test]
     fn kind_sets_combine_with_bitor() {
         assert_eq!(
-            KindSet::TOUCH | KindSet::TRIGGER,
-            KindSet::TOUCH.union(KindSet::TRIGGER)
+            KindSet::CONTACT | KindSet::SENSOR,
+            KindSet::CONTACT.union(KindSet::SENSOR)
         );
         let mut k = KindSet::NONE;
         k |= KindSet::SLEEP;
         assert_eq!(k, KindSet::SLEEP);
         assert_eq!(
-            EventKind::TouchBegin | EventKind::TouchEnd,
-            KindSet::of(&[EventKind::TouchBegin, EventKind::TouchEnd])
+            EventKind::ContactStarted | EventKind::ContactStopped,
+            KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped])
         );
-        let with = KindSet::TOUCH | EventKind::FellAsleep;
-        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::TouchBegin));
+        let with = KindSet::CONTACT | EventKind::FellAsleep;
+        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::ContactStarted));
         assert!(!with.contains(EventKind::WokeUp));
         assert_eq!(
             KindSet::from(EventKind::WokeUp),

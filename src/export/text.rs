@@ -52,7 +52,7 @@ pub fn describe(layer: &ContactLayer, name: &dyn Fn(NodeId) -> Option<String>) -
         "step {step}: {} nodes, {} edges, {} groups ({} awake), largest {} bodies / {} variables",
         graph.node_count(),
         graph.edge_count(),
-        stats.groups.groups,
+        stats.groups.count,
         stats.groups.awake_groups,
         stats.groups.largest_bodies,
         stats.groups.largest_variables,

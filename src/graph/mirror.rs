@@ -21,14 +21,14 @@ pub(crate) fn kind_of_body(view: &WorldView, handle: RigidBodyHandle, rb: &Rigid
     match rb.body_type() {
         RigidBodyType::Fixed => NodeKind::Fixed,
         RigidBodyType::KinematicPositionBased | RigidBodyType::KinematicVelocityBased => {
-            NodeKind::Scripted
+            NodeKind::Kinematic
         }
         // A soft-body cluster's proxy moves and takes part in contacts like a rigid body.
         RigidBodyType::Dynamic | RigidBodyType::SoftFrame => {
             if view.multibody_joints.rigid_body_link(handle).is_some() {
                 NodeKind::Link
             } else {
-                NodeKind::Rigid
+                NodeKind::Dynamic
             }
         }
     }
@@ -157,7 +157,7 @@ pub(crate) fn ensure_trigger_node(
             id
         }
         None => {
-            let id = graph.add_node(NodeKind::Trigger, NodeSource::Sensor(collider));
+            let id = graph.add_node(NodeKind::Sensor, NodeSource::Sensor(collider));
             if let Some(n) = graph.node_mut(id) {
                 n.carrier = c.parent();
             }

@@ -567,8 +567,8 @@ mod tests {
     #[test]
     fn edges_are_unique_per_pair_and_found_both_ways() {
         let mut g = ContactGraph::new();
-        let a = g.add_node(NodeKind::Rigid, NodeSource::Body(body(0)));
-        let b = g.add_node(NodeKind::Rigid, NodeSource::Body(body(1)));
+        let a = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(0)));
+        let b = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(1)));
         let e1 = g.ensure_edge(b, a, EdgeKind::Physical, 1).unwrap();
         let e2 = g.ensure_edge(a, b, EdgeKind::Physical, 2).unwrap();
         assert_eq!(e1, e2);
@@ -583,9 +583,9 @@ mod tests {
     #[test]
     fn removing_a_node_removes_its_edges_and_stales_its_id() {
         let mut g = ContactGraph::new();
-        let a = g.add_node(NodeKind::Rigid, NodeSource::Body(body(0)));
+        let a = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(0)));
         let b = g.add_node(NodeKind::Fixed, NodeSource::Body(body(1)));
-        let c = g.add_node(NodeKind::Rigid, NodeSource::Body(body(2)));
+        let c = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(2)));
         g.ensure_edge(a, b, EdgeKind::Physical, 0);
         g.ensure_edge(a, c, EdgeKind::Physical, 0);
         let removed = g.remove_node(a);
@@ -594,18 +594,18 @@ mod tests {
         assert_eq!(g.try_node(a).unwrap_err(), Error::StaleNode(a));
         assert_eq!(g.node_of_body(body(0)), None);
         // Slot reuse does not revive the old id.
-        let d = g.add_node(NodeKind::Rigid, NodeSource::Body(body(3)));
+        let d = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(3)));
         assert_eq!(d.index(), a.index());
         assert!(g.node(a).is_none());
         assert_eq!(g.edge_between(a, b), None);
-        assert_eq!(g.count_of_kind(NodeKind::Rigid), 2);
+        assert_eq!(g.count_of_kind(NodeKind::Dynamic), 2);
         g.validate().unwrap();
     }
 
     #[test]
     fn body_lookup_checks_generation() {
         let mut g = ContactGraph::new();
-        let n = g.add_node(NodeKind::Rigid, NodeSource::Body(body(4)));
+        let n = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(4)));
         assert_eq!(g.node_of_body(body(4)), Some(n));
         let newer = RigidBodyHandle::from_raw_parts(4, 1);
         assert_eq!(g.node_of_body(newer), None);
@@ -616,7 +616,7 @@ mod tests {
     fn support_follows_normal_orientation() {
         let mut g = ContactGraph::new();
         let ground = g.add_node(NodeKind::Fixed, NodeSource::Body(body(0)));
-        let ball = g.add_node(NodeKind::Rigid, NodeSource::Body(body(1)));
+        let ball = g.add_node(NodeKind::Dynamic, NodeSource::Body(body(1)));
         let e = g.ensure_edge(ground, ball, EdgeKind::Physical, 0).unwrap();
         let gravity = Vector::new(0.0, -9.81, 0.0);
         assert!(!g.try_is_supported(ball, gravity, 0.0).unwrap());

@@ -13,15 +13,25 @@ use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 use super::EdgeId;
 
 /// The kinds of node of the paper's Table 1, as mapped onto Rapier (paper §2, Tables 1–2).
+///
+/// Body kinds take Rapier's names (`Dynamic`, `Fixed`, `Kinematic`; a sensor collider
+/// is a `Sensor`); the paper's names (rigid, scripted, trigger volume) and letters are
+/// in each variant's docs and in [`Self::letter`]. The paper's names of 0.1 remain as
+/// deprecated aliases ([`Self::Rigid`], [`Self::Scripted`], [`Self::Trigger`]), and
+/// serialised data written with them still loads.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NodeKind {
-    /// (R) a dynamic rigid body.
-    Rigid,
+    /// (R) a dynamic rigid body (the paper's *rigid* body; Rapier's
+    /// `RigidBodyType::Dynamic`).
+    #[cfg_attr(feature = "serde", serde(alias = "Rigid"))]
+    Dynamic,
     /// (F) a fixed rigid body, or a collider without a parent body.
     Fixed,
-    /// (S) a kinematic (scripted) rigid body.
-    Scripted,
+    /// (S) a kinematic rigid body (the paper's *scripted* body; Rapier's
+    /// kinematic body types).
+    #[cfg_attr(feature = "serde", serde(alias = "Scripted"))]
+    Kinematic,
     /// (L) a dynamic body that is a link of a Rapier multibody.
     Link,
     /// (C) a container of bodies rigidly attached.
@@ -30,8 +40,9 @@ pub enum NodeKind {
     Multibody,
     /// (A) a user rule.
     Rule,
-    /// (V) a trigger volume (a sensor collider).
-    Trigger,
+    /// (V) a sensor collider (the paper's *trigger volume*).
+    #[cfg_attr(feature = "serde", serde(alias = "Trigger"))]
+    Sensor,
     /// (T) a timer.
     Timer,
 }
@@ -47,18 +58,24 @@ pub enum Category {
     Logical,
 }
 
+renamed_consts!(NodeKind:
+    Rigid => Dynamic, "renamed to NodeKind::Dynamic, Rapier's name";
+    Scripted => Kinematic, "renamed to NodeKind::Kinematic, Rapier's name";
+    Trigger => Sensor, "renamed to NodeKind::Sensor, Rapier's name";
+);
+
 impl NodeKind {
     /// The paper's symbol letter: R, F, L, S, C, M, A, V, T.
     pub const fn letter(self) -> char {
         match self {
-            NodeKind::Rigid => 'R',
+            NodeKind::Dynamic => 'R',
             NodeKind::Fixed => 'F',
-            NodeKind::Scripted => 'S',
+            NodeKind::Kinematic => 'S',
             NodeKind::Link => 'L',
             NodeKind::Composite => 'C',
             NodeKind::Multibody => 'M',
             NodeKind::Rule => 'A',
-            NodeKind::Trigger => 'V',
+            NodeKind::Sensor => 'V',
             NodeKind::Timer => 'T',
         }
     }
@@ -66,35 +83,35 @@ impl NodeKind {
     /// The category of the kind.
     pub const fn category(self) -> Category {
         match self {
-            NodeKind::Rigid | NodeKind::Fixed | NodeKind::Scripted | NodeKind::Link => {
+            NodeKind::Dynamic | NodeKind::Fixed | NodeKind::Kinematic | NodeKind::Link => {
                 Category::Physical
             }
             NodeKind::Composite | NodeKind::Multibody => Category::Container,
-            NodeKind::Rule | NodeKind::Trigger | NodeKind::Timer => Category::Logical,
+            NodeKind::Rule | NodeKind::Sensor | NodeKind::Timer => Category::Logical,
         }
     }
 
-    /// Fixed and scripted bodies "behave as if they had infinite mass": they insulate
-    /// contact groups (paper Fig. 8).
+    /// Fixed and kinematic (the paper's scripted) bodies "behave as if they had infinite
+    /// mass": they insulate contact groups (paper Fig. 8).
     pub const fn is_insulator(self) -> bool {
-        matches!(self, NodeKind::Fixed | NodeKind::Scripted)
+        matches!(self, NodeKind::Fixed | NodeKind::Kinematic)
     }
 
-    /// Bodies moved by the solver: rigid and link bodies.
+    /// Bodies moved by the solver: dynamic and link bodies.
     pub const fn is_simulated(self) -> bool {
-        matches!(self, NodeKind::Rigid | NodeKind::Link)
+        matches!(self, NodeKind::Dynamic | NodeKind::Link)
     }
 
     /// All kinds, in Table 1 order.
     pub const ALL: [NodeKind; 9] = [
-        NodeKind::Rigid,
+        NodeKind::Dynamic,
         NodeKind::Fixed,
         NodeKind::Link,
-        NodeKind::Scripted,
+        NodeKind::Kinematic,
         NodeKind::Composite,
         NodeKind::Multibody,
         NodeKind::Rule,
-        NodeKind::Trigger,
+        NodeKind::Sensor,
         NodeKind::Timer,
     ];
 }
@@ -244,11 +261,18 @@ impl Node {
     pub fn born_step(&self) -> u64 {
         self.born_step
     }
-    /// Whether the body is passive (disabled in Rapier, paper §3.2): it keeps its node,
-    /// handle and user data, but has no physical or geometric edge.
+    /// Whether the body is disabled (the paper's *passive* body, §3.2: disabled in
+    /// Rapier, by [`crate::ContactLayer::set_body_disabled`] or by the user): it keeps
+    /// its node, handle and user data, but has no physical or geometric edge.
+    #[inline]
+    pub fn is_body_disabled(&self) -> bool {
+        self.passive
+    }
+    /// Renamed to [`Self::is_body_disabled`].
+    #[deprecated(since = "0.2.0", note = "renamed to is_body_disabled, Rapier's word")]
     #[inline]
     pub fn is_passive(&self) -> bool {
-        self.passive
+        self.is_body_disabled()
     }
     /// The contact group the node is in since the last update (`None` for insulators,
     /// logical nodes and bodies not yet grouped).
@@ -303,5 +327,23 @@ impl ContainerSource {
             ContainerSource::Composite(_) => NodeKind::Composite,
             _ => NodeKind::Multibody,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NodeKind;
+
+    /// The deprecated names of 0.1 are the renamed kinds, in expressions and patterns.
+    #[test]
+    #[allow(deprecated)]
+    fn deprecated_kind_names_are_the_new_kinds() {
+        assert_eq!(NodeKind::Rigid, NodeKind::Dynamic);
+        assert_eq!(NodeKind::Scripted, NodeKind::Kinematic);
+        assert_eq!(NodeKind::Trigger, NodeKind::Sensor);
+        assert!(matches!(NodeKind::Dynamic, NodeKind::Rigid));
+        assert_eq!(NodeKind::Rigid.letter(), 'R');
+        assert_eq!(NodeKind::Scripted.letter(), 'S');
+        assert_eq!(NodeKind::Trigger.letter(), 'V');
     }
 }

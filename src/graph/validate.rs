@@ -20,9 +20,9 @@ pub(crate) fn edge_allowed(kind: EdgeKind, x: NodeKind, y: NodeKind) -> bool {
         // Rules name bodies (Table 2) and, in this crate, triggers too.
         EdgeKind::Logical => pair(
             |k| k == NodeKind::Rule,
-            |k| k.category() == Category::Physical || k == NodeKind::Trigger,
+            |k| k.category() == Category::Physical || k == NodeKind::Sensor,
         ),
-        EdgeKind::Geometric => pair(|k| k == NodeKind::Trigger, physical),
+        EdgeKind::Geometric => pair(|k| k == NodeKind::Sensor, physical),
         EdgeKind::Structural => pair(|k| k.category() == Category::Container, physical),
     }
 }
@@ -77,7 +77,7 @@ impl ContactGraph {
                     }
                 }
                 NodeSource::Sensor(h) => {
-                    if self.node_of_sensor(h) != Some(id) || node.kind != NodeKind::Trigger {
+                    if self.node_of_sensor(h) != Some(id) || node.kind != NodeKind::Sensor {
                         return fail(format!(
                             "sensor lookup of {h:?} does not give trigger {id:?}"
                         ));
@@ -171,14 +171,14 @@ mod tests {
     #[test]
     fn table_2_pairs() {
         use NodeKind::*;
-        assert!(edge_allowed(EdgeKind::Physical, Rigid, Fixed));
-        assert!(edge_allowed(EdgeKind::Physical, Link, Scripted));
+        assert!(edge_allowed(EdgeKind::Physical, Dynamic, Fixed));
+        assert!(edge_allowed(EdgeKind::Physical, Link, Kinematic));
         assert!(!edge_allowed(EdgeKind::Physical, Fixed, Fixed));
-        assert!(!edge_allowed(EdgeKind::Physical, Fixed, Scripted));
-        assert!(!edge_allowed(EdgeKind::Geometric, Trigger, Trigger));
-        assert!(edge_allowed(EdgeKind::Geometric, Fixed, Trigger));
+        assert!(!edge_allowed(EdgeKind::Physical, Fixed, Kinematic));
+        assert!(!edge_allowed(EdgeKind::Geometric, Sensor, Sensor));
+        assert!(edge_allowed(EdgeKind::Geometric, Fixed, Sensor));
         assert!(edge_allowed(EdgeKind::Structural, Multibody, Link));
         assert!(!edge_allowed(EdgeKind::Structural, Multibody, Rule));
-        assert!(edge_allowed(EdgeKind::Logical, Rule, Scripted));
+        assert!(edge_allowed(EdgeKind::Logical, Rule, Kinematic));
     }
 }

@@ -184,8 +184,10 @@ impl Group {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GroupStats {
-    /// Number of groups (awake and sleeping).
-    pub groups: usize,
+    /// Number of groups (awake and sleeping). (Named `groups` before 0.2, which read
+    /// `stats.groups.groups`; serialised stats with that name still load.)
+    #[cfg_attr(feature = "serde", serde(alias = "groups"))]
+    pub count: usize,
     /// Number of groups with at least one awake member.
     pub awake_groups: usize,
     /// Members of the largest group.
@@ -206,10 +208,10 @@ pub struct GroupStats {
 impl GroupStats {
     /// Mean contact variables per group (0 without groups).
     pub fn mean_variables(&self) -> f64 {
-        if self.groups == 0 {
+        if self.count == 0 {
             0.0
         } else {
-            self.total_variables as f64 / self.groups as f64
+            self.total_variables as f64 / self.count as f64
         }
     }
 }
@@ -311,7 +313,7 @@ pub(crate) fn traversable(kind: EdgeKind, touching: bool) -> bool {
 fn member_kind(kind: NodeKind) -> bool {
     matches!(
         kind,
-        NodeKind::Rigid | NodeKind::Link | NodeKind::Composite | NodeKind::Multibody
+        NodeKind::Dynamic | NodeKind::Link | NodeKind::Composite | NodeKind::Multibody
     )
 }
 
@@ -527,7 +529,7 @@ impl Groups {
             }
         }
         self.stats = GroupStats {
-            groups: awake.awake_groups + t.count,
+            count: awake.awake_groups + t.count,
             awake_groups: awake.awake_groups,
             largest_bodies: awake.largest_bodies.max(t.largest_bodies),
             largest_variables: awake.largest_variables.max(t.largest_variables),
@@ -536,6 +538,6 @@ impl Groups {
             rebuilt,
             deferred: self.deferred.len(),
         };
-        debug_assert_eq!(self.stats.groups, self.arena.len());
+        debug_assert_eq!(self.stats.count, self.arena.len());
     }
 }

@@ -23,7 +23,7 @@ impl ContactLayer {
     ///     ColliderBuilder::ball(0.5),
     /// );
     /// let mut layer = ContactLayer::new();
-    /// let touches = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TouchBegin])));
+    /// let touches = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])));
     /// for _ in 0..100 {
     ///     layer.step(&mut world);
     /// }
@@ -71,8 +71,8 @@ impl ContactLayer {
         &self.events
     }
 
-    /// The last step's events naming `body` (in [`Event::body_a`] or
-    /// [`Event::body_b`]; see [`Filter::with_bodies`] for what that covers), in
+    /// The last step's events naming `body` (in [`Event::body1`] or
+    /// [`Event::body2`]; see [`Filter::with_bodies`] for what that covers), in
     /// order. Only kinds some subscription wants are generated: subscribe first (a
     /// `Filter::with_bodies` subscription receives the same events). A body the layer
     /// has not seen, or a removed one, has none. O(the step's events).
@@ -82,6 +82,6 @@ impl ContactLayer {
     ) -> impl Iterator<Item = &Event> + '_ {
         self.events
             .iter()
-            .filter(move |e| e.body_a == Some(body) || e.body_b == Some(body))
+            .filter(move |e| e.body1 == Some(body) || e.body2 == Some(body))
     }
 }

@@ -12,7 +12,7 @@ use super::ContactLayer;
 impl ContactLayer {
     fn check_rule_member(&self, n: NodeId) -> Result<()> {
         let node = self.graph.try_node(n)?;
-        if node.kind().category() != Category::Physical && node.kind() != NodeKind::Trigger {
+        if node.kind().category() != Category::Physical && node.kind() != NodeKind::Sensor {
             return Err(Error::WrongKind {
                 node: n,
                 expected: "a body or a trigger (rules apply to those)",
@@ -172,7 +172,8 @@ impl ContactLayer {
         self.logic.timers.time()
     }
 
-    /// Makes a body passive (or active again) without deallocating it (paper §3.2): it
+    /// Disables a body (or enables it again) without deallocating it, as Rapier's
+    /// `RigidBody::set_enabled(false)` but guarded (the paper's *passive* body, §3.2): it
     /// keeps its node, handle and user data, but takes part in nothing. Rapier's enabled
     /// flag is cleared in the pre-step, its edges end at the next analysis, and no
     /// event names it while passive. Its impulse joints are disabled while it is
@@ -184,7 +185,7 @@ impl ContactLayer {
     ///
     /// # Errors
     /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
-    /// - [`Error::Unsupported`] for `passive = true` on a dynamic multibody member (a
+    /// - [`Error::Unsupported`] for `disabled = true` on a dynamic multibody member (a
     ///   `Link` node at the last analysis): Rapier 0.36 does not carry a disabled
     ///   multibody member and panics in its next step. The body is left as it is.
     ///
@@ -206,29 +207,36 @@ impl ContactLayer {
     /// );
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// layer.set_passive(ball, true).unwrap();
+    /// layer.set_body_disabled(ball, true).unwrap();
     /// layer.step(&mut world);
     /// let node = layer.node_of_body(ball).unwrap(); // same node, same handle
-    /// assert!(layer.graph().node(node).unwrap().is_passive());
+    /// assert!(layer.graph().node(node).unwrap().is_body_disabled());
     /// assert_eq!(layer.graph().node(node).unwrap().degree(), 0);
     /// ```
-    pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
+    pub fn set_body_disabled(&mut self, body: RigidBodyHandle, disabled: bool) -> Result<()> {
         let node = self.graph.try_node_of_body(body)?;
-        if passive && self.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
+        if disabled && self.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
             return Err(Error::Unsupported {
-                what: "set_passive(true) on a multibody link",
+                what: "set_body_disabled(true) on a multibody link",
                 reason: "Rapier 0.36 panics in its next step on a disabled multibody \
                          root while its links are enabled, and does not disable a \
                          multibody with its members",
             });
         }
-        self.logic.queue_passive(body, node, passive);
+        self.logic.queue_passive(body, node, disabled);
         Ok(())
+    }
+
+    /// Renamed to [`Self::set_body_disabled`] (Rapier's word for a body out of the
+    /// simulation is *disabled*); forwards to it.
+    #[deprecated(since = "0.2.0", note = "renamed to set_body_disabled, Rapier's name")]
+    pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
+        self.set_body_disabled(body, passive)
     }
 
     /// What the last pre-step refused or undid because Rapier 0.36 would panic on it,
     /// each with the body and an [`Error::Unsupported`] saying why: a queued
-    /// [`Self::set_passive`] of a body that had become a dynamic multibody member, or a
+    /// [`Self::set_body_disabled`] of a body that had become a dynamic multibody member, or a
     /// passive body that the user joined to a multibody (made active again). Empty
     /// almost always; cleared by every pre-step. O(1).
     pub fn refusals(&self) -> &[(RigidBodyHandle, Error)] {
@@ -237,7 +245,7 @@ impl ContactLayer {
 
     /// Declares bodies rigidly attached by the user (not by Rapier joints) as a
     /// `Composite` node with structural edges to them: contact groups then treat them as
-    /// one. Members must be live dynamic bodies (`Rigid`), else an error. O(members).
+    /// one. Members must be live dynamic bodies (`Dynamic`), else an error. O(members).
     ///
     /// # Example
     /// ```
@@ -267,7 +275,7 @@ impl ContactLayer {
         }
         for &b in bodies {
             let kind = self.graph.try_node(b)?.kind();
-            if kind != NodeKind::Rigid {
+            if kind != NodeKind::Dynamic {
                 return Err(Error::WrongKind {
                     node: b,
                     expected: "a dynamic rigid body",

@@ -76,7 +76,7 @@ pub struct StepStats {
 /// let supports = layer.supports_of_body(&world, ball, 0.0).unwrap();
 /// assert_eq!(supports.len(), 1, "the ball rests on the ground");
 /// let node = layer.graph().try_node_of_body(ball).unwrap();
-/// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Rigid);
+/// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Dynamic);
 /// layer.validate(&world).unwrap();
 /// ```
 ///
@@ -103,7 +103,7 @@ pub struct StepStats {
 ///   [`Self::removed_edges`], [`Self::removed_nodes`].
 /// - **Rules, timers, passive bodies, containers:** [`Self::add_rule`],
 ///   [`Self::remove_rule`], [`Self::add_timer`], [`Self::remove_timer`],
-///   [`Self::set_passive`], [`Self::declare_composite`].
+///   [`Self::set_body_disabled`], [`Self::declare_composite`].
 /// - **Speed-ups and the monitor:** [`Self::set_speedups`], [`Self::speedups`],
 ///   [`Self::set_monitor`], [`Self::monitor`], [`Self::holds`].
 /// - **Checking and syncing:** [`Self::validate`], [`Self::validate_view`],

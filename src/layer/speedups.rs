@@ -4,7 +4,7 @@
 use rapier3d::prelude::RigidBodyHandle;
 
 use crate::logic::hooks::HooksView;
-use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig};
+use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig, ViolationCounts};
 use crate::speedups::{SpeedUpState, SpeedUps};
 use crate::{Result, WorldView};
 
@@ -38,7 +38,7 @@ impl ContactLayer {
     /// for _ in 0..100 {
     ///     assert_eq!(layer.step(&mut world).violations, 0);
     /// }
-    /// assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
+    /// assert_eq!(layer.violation_totals().unwrap().total(), 0);
     /// ```
     pub fn set_monitor(
         &mut self,
@@ -68,10 +68,11 @@ impl ContactLayer {
         Ok(())
     }
 
-    /// Whether a body is held in place: fixated by the speed-ups (fixed in Rapier until
-    /// released) or asleep in Rapier. This is the `held` a [`crate::monitor::Monitor`]
-    /// run outside the layer wants, and what the layer's own monitor uses. O(log
-    /// fixated bodies).
+    /// Whether the body `h` is *held* in place: fixated by the speed-ups (made fixed in
+    /// Rapier until released) or asleep in Rapier (read from `bodies`). Not whether
+    /// the layer knows the body: a removed or foreign handle answers `false`. This is
+    /// the `held` predicate a [`crate::monitor::Monitor`] run outside the layer takes,
+    /// and what the layer's own monitor uses. O(log fixated bodies).
     pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
         self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
             || bodies.get(h).is_some_and(|b| b.is_sleeping())
@@ -89,6 +90,12 @@ impl ContactLayer {
     /// The layer's monitor, if it is on. O(1).
     pub fn monitor(&self) -> Option<&LayerMonitor> {
         self.monitor.as_ref()
+    }
+
+    /// Violations per kind since the layer's monitor was set (`None` with the monitor
+    /// off): short for `self.monitor().map(|m| m.monitor().totals())`. O(1).
+    pub fn violation_totals(&self) -> Option<ViolationCounts> {
+        self.monitor.as_ref().map(|m| m.monitor.totals())
     }
 
     /// Tells the monitor that the caller pushed `body` before this step (set its

@@ -32,7 +32,7 @@ impl ContactLayer {
     /// Applies the queued logical changes to the world (hook flags of rule members,
     /// passive bodies, trigger collision types, the speed-ups' fixations), after
     /// checking them against the world as it is now: what Rapier would panic on is
-    /// refused or guarded (see [`Self::set_passive`] and [`Self::refusals`]).
+    /// refused or guarded (see [`Self::set_body_disabled`] and [`Self::refusals`]).
     /// [`Self::step`] calls it; users who step Rapier themselves call it before each
     /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
     /// is passive; O(passive bodies) while some are (their joints are checked when the

@@ -16,8 +16,8 @@
 //! `docs/audit.md`, "Rapier's own panics"): a disabled multibody member the solver needs, and
 //! an enabled impulse joint between a disabled body and a fixed or disabled one. The
 //! pre-step guards the bodies the layer made passive, checking the world as it is
-//! then (the user may have joined bodies since `set_passive`):
-//! - chosen: a dynamic multibody member is never made passive (`set_passive` refuses
+//! then (the user may have joined bodies since `set_body_disabled`):
+//! - chosen: a dynamic multibody member is never made passive (`set_body_disabled` refuses
 //!   a `Link` node; the pre-step refuses a queued change, and makes a passive body the
 //!   user joined to a multibody active again, listed in `refusals()`); rejected:
 //!   disabling the whole multibody (it would make bodies passive the user did not
@@ -26,7 +26,7 @@
 //! - chosen: a passive body's joints are held `JointEnabled::Disabled` and enabled
 //!   again when both ends are active; rejected: Rapier's own `DisabledByAttachedBody`
 //!   (Rapier enables those joints whenever a body at either end is inserted or
-//!   enabled, whatever the other end), and refusing `set_passive` on jointed bodies (a
+//!   enabled, whatever the other end), and refusing `set_body_disabled` on jointed bodies (a
 //!   joint can be added later, and passive jointed bodies would be lost).
 //!
 //! # Pay for what you use
@@ -412,8 +412,8 @@ impl Logic {
     /// multibody part only when it has multibodies; O(1) per passive body (plus its
     /// joints).
     ///
-    /// Why a guard and not only a check in `set_passive`: the user can change the world
-    /// between `set_passive` and the pre-step, or after it, with calls the layer does
+    /// Why a guard and not only a check in `set_body_disabled`: the user can change the world
+    /// between `set_body_disabled` and the pre-step, or after it, with calls the layer does
     /// not see (a joint added to a passive body). Rapier panics in its next step on:
     /// - a disabled multibody member that the solver needs (the root, or the first link
     ///   under a fixed root) while other links are enabled ("Matrix slicing out of
@@ -444,7 +444,7 @@ impl Logic {
                 // Nothing changes: the body stays as it is (active, or passive if it
                 // was; a passive member is made active just below).
                 self.refusals
-                    .push((h, multibody_refusal("set_passive(true)")));
+                    .push((h, multibody_refusal("set_body_disabled(true)")));
                 continue;
             }
             if let Some(rb) = world.bodies.get_mut(h) {

@@ -182,7 +182,7 @@ impl Hanging {
             }
             for &n in coherence.refreshed_nodes() {
                 let Some(node) = graph.node(n) else { continue };
-                if node.kind() != crate::NodeKind::Scripted {
+                if node.kind() != crate::NodeKind::Kinematic {
                     continue;
                 }
                 let Some(k) = node.body() else { continue };

@@ -103,7 +103,7 @@ impl Launch {
             if group.insulators.iter().any(|&i| {
                 graph
                     .node(i)
-                    .is_some_and(|n| n.kind() == NodeKind::Scripted)
+                    .is_some_and(|n| n.kind() == NodeKind::Kinematic)
             }) {
                 continue;
             }

@@ -988,7 +988,7 @@ impl SpeedUpState {
             // Fixate: every sleepy awake simulated body.
             for &n in refreshed {
                 let Some(node) = graph.node(n) else { continue };
-                if node.kind() != NodeKind::Rigid || !node.is_awake() {
+                if node.kind() != NodeKind::Dynamic || !node.is_awake() {
                     continue;
                 }
                 let Some(h) = node.body() else { continue };
@@ -1075,7 +1075,7 @@ impl SpeedUpState {
             }
             let watched = match node.kind() {
                 NodeKind::Fixed => s.pose.is_some(),
-                NodeKind::Scripted => true,
+                NodeKind::Kinematic => true,
                 _ => false,
             };
             if watched {
@@ -1104,7 +1104,7 @@ impl SpeedUpState {
     ) -> bool {
         match node.kind() {
             NodeKind::Fixed => s.pose.is_some() && static_pose(graph, view, s.node) == s.pose,
-            NodeKind::Scripted => node
+            NodeKind::Kinematic => node
                 .body()
                 .and_then(|mh| view.bodies.get(mh))
                 .is_some_and(|rb| !crate::world::moves(rb)),

@@ -45,7 +45,7 @@ impl ContractLog {
     pub fn attach_with(layer: &mut ContactLayer, filter: Filter) -> Self {
         let proximity = filter
             .kinds_set()
-            .contains(rapier_contact_graph::EventKind::ProximityBegin);
+            .contains(rapier_contact_graph::EventKind::ProximityStarted);
         Self {
             proximity,
             rx: layer.subscribe(filter),
@@ -76,69 +76,76 @@ impl ContractLog {
         use EventKind::*;
         assert!(ev.step >= self.last_step, "steps go backwards: {ev:?}");
         self.last_step = ev.step;
-        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
+        let is_end = matches!(ev.kind, ProximityStopped | ContactStopped | SensorStopped);
         let is_monitor = matches!(ev.kind, Violation | Repaired);
-        for n in [Some(ev.a), ev.b].into_iter().flatten() {
+        for n in [Some(ev.node1), ev.node2].into_iter().flatten() {
             assert!(
                 is_end || is_monitor || !self.passive.contains(&n),
                 "event naming passive node {n:?}: {ev:?}"
             );
         }
         match ev.kind {
-            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
-            | TouchEnd => {
-                let k = key(ev.a, ev.b);
-                assert_eq!(k, (ev.a, ev.b.unwrap()), "pair events name A first: {ev:?}");
+            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted
+            | ContactPersisted | ContactStopped => {
+                let k = key(ev.node1, ev.node2);
+                assert_eq!(
+                    k,
+                    (ev.node1, ev.node2.unwrap()),
+                    "pair events name A first: {ev:?}"
+                );
                 assert!(
                     !self.excluded.contains(&k),
                     "event for an excluded pair: {ev:?}"
                 );
                 match ev.kind {
-                    ProximityBegin => assert!(self.prox.insert(k), "Begin twice: {ev:?}"),
-                    ProximityPersist => {
+                    ProximityStarted => assert!(self.prox.insert(k), "Begin twice: {ev:?}"),
+                    ProximityPersisted => {
                         assert!(self.prox.contains(&k), "Persist without Begin: {ev:?}")
                     }
-                    ProximityEnd => {
+                    ProximityStopped => {
                         assert!(
                             !self.touch.contains(&k),
                             "proximity ends inside a touch: {ev:?}"
                         );
                         assert!(self.prox.remove(&k), "End without Begin: {ev:?}")
                     }
-                    TouchBegin => {
+                    ContactStarted => {
                         assert!(
                             !self.proximity || self.prox.contains(&k),
                             "touch outside proximity: {ev:?}"
                         );
-                        assert!(self.touch.insert(k), "TouchBegin twice: {ev:?}")
+                        assert!(self.touch.insert(k), "ContactStarted twice: {ev:?}")
                     }
-                    TouchPersist => assert!(
+                    ContactPersisted => assert!(
                         self.touch.contains(&k),
-                        "TouchPersist without Begin: {ev:?}"
+                        "ContactPersisted without Begin: {ev:?}"
                     ),
-                    TouchEnd => assert!(self.touch.remove(&k), "TouchEnd without Begin: {ev:?}"),
+                    ContactStopped => assert!(
+                        self.touch.remove(&k),
+                        "ContactStopped without Begin: {ev:?}"
+                    ),
                     _ => unreachable!(),
                 }
             }
-            TriggerEnter => assert!(
-                self.inside.insert((ev.a, ev.b.unwrap())),
+            SensorStarted => assert!(
+                self.inside.insert((ev.node1, ev.node2.unwrap())),
                 "Enter twice: {ev:?}"
             ),
-            TriggerExit => assert!(
-                self.inside.remove(&(ev.a, ev.b.unwrap())),
+            SensorStopped => assert!(
+                self.inside.remove(&(ev.node1, ev.node2.unwrap())),
                 "Exit without Enter: {ev:?}"
             ),
             TimerTick => {
-                let last = self.ticks.entry(ev.a).or_insert(0);
+                let last = self.ticks.entry(ev.node1).or_insert(0);
                 assert_eq!(ev.tick, *last + 1, "ticks skip: {ev:?}");
                 *last = ev.tick;
             }
             FellAsleep => {
-                let was = self.asleep.insert(ev.a, true);
+                let was = self.asleep.insert(ev.node1, true);
                 assert_ne!(was, Some(true), "FellAsleep twice: {ev:?}");
             }
             WokeUp => {
-                let was = self.asleep.insert(ev.a, false);
+                let was = self.asleep.insert(ev.node1, false);
                 assert_ne!(was, Some(false), "WokeUp twice: {ev:?}");
             }
             Violation | Repaired => {
@@ -147,7 +154,7 @@ impl ContractLog {
                     "monitor event without a kind: {ev:?}"
                 );
                 assert!(
-                    ev.b.is_none() && ev.body_a.is_some(),
+                    ev.node2.is_none() && ev.body1.is_some(),
                     "names one body: {ev:?}"
                 );
                 assert!(ev.value.is_finite(), "measure not finite: {ev:?}");
@@ -189,7 +196,7 @@ impl ContractLog {
                 }
                 EdgeKind::Geometric => {
                     let (t, b) = if g.node(e.a()).unwrap().kind()
-                        == rapier_contact_graph::NodeKind::Trigger
+                        == rapier_contact_graph::NodeKind::Sensor
                     {
                         (e.a(), e.b())
                     } else {

@@ -110,13 +110,23 @@ pub fn format_events(events: &[rapier_contact_graph::Event], names: &Names) -> S
     let mut s = String::new();
     for ev in events {
         let name = |n: NodeId| names.0.get(&n).cloned().unwrap_or_else(|| format!("{n:?}"));
-        let b = ev.b.map(|b| format!(" {}", name(b))).unwrap_or_default();
+        let b = ev
+            .node2
+            .map(|b| format!(" {}", name(b)))
+            .unwrap_or_default();
         let tick = if ev.tick > 0 {
             format!(" #{}", ev.tick)
         } else {
             String::new()
         };
-        s += &format!("{:>4} {:?} {}{}{}\n", ev.step, ev.kind, name(ev.a), b, tick);
+        s += &format!(
+            "{:>4} {:?} {}{}{}\n",
+            ev.step,
+            ev.kind,
+            name(ev.node1),
+            b,
+            tick
+        );
     }
     s
 }

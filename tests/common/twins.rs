@@ -265,7 +265,7 @@ pub fn logic_scene() -> (Scene, ContactLayer, NodeId, RigidBodyHandle) {
     layer.add_timer(0.07).unwrap();
     layer.add_timer(0.25).unwrap();
     layer.declare_composite(&[nb1, nb2]).unwrap();
-    layer.set_passive(sleeper, true).unwrap();
+    layer.set_body_disabled(sleeper, true).unwrap();
     let _ = nsleeper;
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
     layer.set_monitor(MonitorMode::Report, c, r).unwrap();

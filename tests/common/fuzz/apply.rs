@@ -30,7 +30,7 @@ impl Harness {
             .graph()
             .nodes()
             .filter(|(_, n)| {
-                n.kind().category() == Category::Physical || n.kind() == NodeKind::Trigger
+                n.kind().category() == Category::Physical || n.kind() == NodeKind::Sensor
             })
             .map(|(id, _)| id)
             .collect();
@@ -330,9 +330,9 @@ impl Harness {
                         .and_then(|n| self.layer.graph().node(n))
                         .map(|n| n.kind())
                         == Some(NodeKind::Link);
-                    match self.layer.set_passive(h, on) {
+                    match self.layer.set_body_disabled(h, on) {
                         Ok(()) if on && link => {
-                            return Err(format!("set_passive({h:?}, true) on a link: Ok"))
+                            return Err(format!("set_body_disabled({h:?}, true) on a link: Ok"))
                         }
                         Ok(()) => {
                             self.passive.insert(raw(h), (h, on));
@@ -341,7 +341,7 @@ impl Harness {
                             self.counters.refused += 1;
                         }
                         Err(e) if node.is_some() => {
-                            return Err(format!("set_passive({h:?}, {on}) failed: {e}"))
+                            return Err(format!("set_body_disabled({h:?}, {on}) failed: {e}"))
                         }
                         Err(_) => {}
                     }
@@ -447,7 +447,7 @@ impl Harness {
                 let mut rigid: Vec<NodeId> = self
                     .layer
                     .graph()
-                    .nodes_of_kind(NodeKind::Rigid)
+                    .nodes_of_kind(NodeKind::Dynamic)
                     .map(|(id, _)| id)
                     .collect();
                 rigid.sort();

@@ -150,10 +150,10 @@ impl Harness {
                     active.contains(&h)
                 ));
             }
-            if node.is_passive() == enabled {
+            if node.is_body_disabled() == enabled {
                 return Err(format!(
                     "node {n:?} of body {h:?} passive = {}, Rapier enabled = {} (parking: {})",
-                    node.is_passive(),
+                    node.is_body_disabled(),
                     rb.is_enabled(),
                     parking.contains(&h)
                 ));
@@ -161,7 +161,7 @@ impl Harness {
             if let Some((_, asked)) = self.passive.get(&raw(h)) {
                 if *asked == enabled && !self.quarantined.contains(&raw(h)) {
                     return Err(format!(
-                        "body {h:?}: set_passive({asked}) asked, Rapier enabled = {}",
+                        "body {h:?}: set_body_disabled({asked}) asked, Rapier enabled = {}",
                         rb.is_enabled()
                     ));
                 }

@@ -56,89 +56,89 @@ impl Contract {
             ));
         }
         let g = layer.graph();
-        let is_end = matches!(ev.kind, ProximityEnd | TouchEnd | TriggerExit);
-        for n in [Some(ev.a), ev.b].into_iter().flatten() {
+        let is_end = matches!(ev.kind, ProximityStopped | ContactStopped | SensorStopped);
+        for n in [Some(ev.node1), ev.node2].into_iter().flatten() {
             if !is_end && in_force.passive.contains(&n) {
                 return bad("names a passive body");
             }
         }
         let pair_ignored = |a: NodeId, b: NodeId| in_force.rules.iter().any(|r| r.ignores(a, b));
         match ev.kind {
-            ProximityBegin | ProximityPersist | ProximityEnd | TouchBegin | TouchPersist
-            | TouchEnd => {
-                let Some(b) = ev.b else {
+            ProximityStarted | ProximityPersisted | ProximityStopped | ContactStarted
+            | ContactPersisted | ContactStopped => {
+                let Some(b) = ev.node2 else {
                     return bad("pair event without b");
                 };
-                let k = (ev.a, b);
-                if ev.a.index() >= b.index() {
+                let k = (ev.node1, b);
+                if ev.node1.index() >= b.index() {
                     return bad("pair event does not name A (smaller slot) first");
                 }
-                if !is_end && pair_ignored(ev.a, b) {
+                if !is_end && pair_ignored(ev.node1, b) {
                     return bad("Begin/Persist for a pair a rule in force ignores");
                 }
                 match ev.kind {
-                    ProximityBegin => {
+                    ProximityStarted => {
                         if !self.prox.insert(k) {
-                            return bad("ProximityBegin twice");
+                            return bad("ProximityStarted twice");
                         }
                     }
-                    ProximityPersist => {
+                    ProximityPersisted => {
                         if !self.prox.contains(&k) {
-                            return bad("ProximityPersist without Begin");
+                            return bad("ProximityPersisted without Begin");
                         }
                     }
-                    ProximityEnd => {
+                    ProximityStopped => {
                         if self.touch.contains(&k) {
                             return bad("proximity ends inside a touch");
                         }
                         if !self.prox.remove(&k) {
-                            return bad("ProximityEnd without Begin");
+                            return bad("ProximityStopped without Begin");
                         }
                     }
-                    TouchBegin => {
+                    ContactStarted => {
                         if self.proximity && !self.prox.contains(&k) {
                             return bad("touch outside proximity");
                         }
                         if !self.touch.insert(k) {
-                            return bad("TouchBegin twice");
+                            return bad("ContactStarted twice");
                         }
                     }
-                    TouchPersist => {
+                    ContactPersisted => {
                         if !self.touch.contains(&k) {
-                            return bad("TouchPersist without Begin");
+                            return bad("ContactPersisted without Begin");
                         }
                     }
-                    TouchEnd => {
+                    ContactStopped => {
                         if !self.touch.remove(&k) {
-                            return bad("TouchEnd without Begin");
+                            return bad("ContactStopped without Begin");
                         }
                     }
                     _ => unreachable!(),
                 }
-                if matches!(ev.kind, ProximityPersist | TouchPersist) {
+                if matches!(ev.kind, ProximityPersisted | ContactPersisted) {
                     let awake = |n| g.node(n).is_some_and(|n| n.is_awake());
-                    if !awake(ev.a) && !awake(b) {
+                    if !awake(ev.node1) && !awake(b) {
                         return bad("Persist for a pair without an awake body");
                     }
                 }
             }
-            TriggerEnter | TriggerExit => {
-                let Some(b) = ev.b else {
+            SensorStarted | SensorStopped => {
+                let Some(b) = ev.node2 else {
                     return bad("trigger event without b");
                 };
-                if ev.kind == TriggerEnter {
-                    if pair_ignored(ev.a, b) {
-                        return bad("TriggerEnter for a pair a rule in force ignores");
+                if ev.kind == SensorStarted {
+                    if pair_ignored(ev.node1, b) {
+                        return bad("SensorStarted for a pair a rule in force ignores");
                     }
-                    if !self.inside.insert((ev.a, b)) {
+                    if !self.inside.insert((ev.node1, b)) {
                         return bad("Enter twice");
                     }
-                } else if !self.inside.remove(&(ev.a, b)) {
+                } else if !self.inside.remove(&(ev.node1, b)) {
                     return bad("Exit without Enter");
                 }
             }
             TimerTick => {
-                let last = self.ticks.entry(ev.a).or_insert(0);
+                let last = self.ticks.entry(ev.node1).or_insert(0);
                 if ev.tick != *last + 1 {
                     return bad("ticks skip");
                 }
@@ -146,10 +146,10 @@ impl Contract {
             }
             FellAsleep | WokeUp => {
                 let now_awake = ev.kind == WokeUp;
-                if self.asleep.insert(ev.a, !now_awake) == Some(!now_awake) {
+                if self.asleep.insert(ev.node1, !now_awake) == Some(!now_awake) {
                     return bad("FellAsleep or WokeUp twice");
                 }
-                if g.node(ev.a).is_some_and(|n| n.is_awake() != now_awake) {
+                if g.node(ev.node1).is_some_and(|n| n.is_awake() != now_awake) {
                     return bad("sleep event disagrees with the node's awake flag");
                 }
             }
@@ -174,7 +174,7 @@ impl Contract {
                     }
                 }
                 EdgeKind::Geometric => {
-                    let t_is_a = g.node(e.a()).is_some_and(|n| n.kind() == NodeKind::Trigger);
+                    let t_is_a = g.node(e.a()).is_some_and(|n| n.kind() == NodeKind::Sensor);
                     inside.insert(if t_is_a {
                         (e.a(), e.b())
                     } else {
@@ -222,8 +222,8 @@ fn member_of_any(n: NodeId, set: &[NodeId], layer: &ContactLayer) -> bool {
 
 /// What a filtered subscription must receive (our own reading of `Filter`'s docs):
 /// the kinds, and, when restricted, events involving anything named by any
-/// restriction (nodes with their members, bodies in `body_a`/`body_b`, colliders in
-/// `collider_a`/`collider_b`).
+/// restriction (nodes with their members, bodies in `body1`/`body2`, colliders in
+/// `collider1`/`collider2`).
 pub(super) fn matches(filter: &Filter, ev: &Event, layer: &ContactLayer) -> bool {
     if !filter.kinds_set().contains(ev.kind) {
         return false;
@@ -234,16 +234,17 @@ pub(super) fn matches(filter: &Filter, ev: &Event, layer: &ContactLayer) -> bool
         return true;
     }
     let by_node = filter.nodes().is_some_and(|set| {
-        member_of_any(ev.a, set, layer) || ev.b.is_some_and(|b| member_of_any(b, set, layer))
+        member_of_any(ev.node1, set, layer)
+            || ev.node2.is_some_and(|b| member_of_any(b, set, layer))
     });
     let by_body = filter.bodies().is_some_and(|set| {
-        [ev.body_a, ev.body_b]
+        [ev.body1, ev.body2]
             .into_iter()
             .flatten()
             .any(|h| set.contains(&h))
     });
     let by_collider = filter.colliders().is_some_and(|set| {
-        [ev.collider_a, ev.collider_b]
+        [ev.collider1, ev.collider2]
             .into_iter()
             .flatten()
             .any(|c| set.contains(&c))

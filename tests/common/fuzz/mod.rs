@@ -55,7 +55,7 @@ pub struct Counters {
     pub max_nodes: usize,
     pub kinds_seen: u16,
     pub sleeping_seen: u64,
-    /// `set_passive(true)` calls refused, and passive changes the pre-step refused
+    /// `set_body_disabled(true)` calls refused, and passive changes the pre-step refused
     /// or undid.
     pub refused: u64,
     /// Steps analysed with touching tracking in effect (Rapier's events).
@@ -76,12 +76,12 @@ pub struct Harness {
     rules: Vec<NodeId>,
     timers: Vec<NodeId>,
     composites: Vec<NodeId>,
-    /// What the user last asked with `set_passive`, per body.
+    /// What the user last asked with `set_body_disabled`, per body.
     passive: BTreeMap<(u32, u32), (RigidBodyHandle, bool)>,
     pub counters: Counters,
     pub trace: bool,
     /// Bodies Rapier's quarantine disabled (non-finite state) at some step: they
-    /// are disabled whatever `set_passive` asked.
+    /// are disabled whatever `set_body_disabled` asked.
     quarantined: HashSet<(u32, u32)>,
     /// Bodies or colliders added / removed since the last step.
     added: bool,

@@ -131,7 +131,7 @@ pub enum Op {
     /// `Rule::ignore_between` of two sets of candidate nodes (bit i: candidate i).
     IgnoreBetween(u16, u16),
     RemoveRule(u8),
-    /// Declares a composite of the dynamic (`Rigid`) nodes selected by the mask.
+    /// Declares a composite of the dynamic (`Dynamic`) nodes selected by the mask.
     Composite(u16),
     RemoveComposite(u8),
     /// A timer of period 0.02·(p % 10 + 1) s.
