@@ -385,7 +385,11 @@ impl Coherence {
                 self.retire(graph, view, eid);
             }
         }
-        for &me in walk.iter().filter(|_| !scan).chain(triggers.iter()) {
+        // Under touching tracking physical edges follow Rapier's events alone, so the
+        // refreshed bodies' edges need a look only if some of them may be geometric
+        // (a trigger exists): without one, not even an edge lookup per awake body.
+        let look_at_walk = !scan && (touch.is_none() || graph.count_of_kind(NodeKind::Sensor) > 0);
+        for &me in walk.iter().filter(|_| look_at_walk).chain(triggers.iter()) {
             self.dead.clear();
             let Some(node) = graph.node(me) else { continue };
             for &eid in &node.edges {
