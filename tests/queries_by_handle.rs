@@ -36,31 +36,6 @@ fn scene() -> (
     (world, balls, sensor, ledge)
 }
 
-/// What Rapier says touches a body: the owners of the colliders in its contact pairs
-/// with an active contact.
-fn rapier_touching(world: &PhysicsWorld, body: RigidBodyHandle) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    for &c in world.bodies[body].colliders() {
-        for pair in world.narrow_phase.contact_pairs_with(c) {
-            if !pair.has_any_active_contact() {
-                continue;
-            }
-            let other = if pair.collider1 == c {
-                pair.collider2
-            } else {
-                pair.collider1
-            };
-            let t = match world.colliders[other].parent() {
-                Some(b) if b == body => continue,
-                Some(b) => Touching::Body(b),
-                None => Touching::Collider(other),
-            };
-            out.insert(format!("{t:?}"));
-        }
-    }
-    out
-}
-
 #[test]
 fn touching_bodies_are_rapiers_touching_pairs_at_every_step() {
     let (mut world, balls, sensor, _) = scene();

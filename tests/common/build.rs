@@ -104,3 +104,31 @@ pub fn hammer(world: &mut PhysicsWorld) -> RigidBodyHandle {
     world.insert_collider(ColliderBuilder::ball(0.25), Some(h));
     h
 }
+
+/// What Rapier says touches a body: the owners of the colliders in its contact pairs
+/// with an active contact.
+pub fn rapier_touching(
+    world: &PhysicsWorld,
+    body: RigidBodyHandle,
+) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    for &c in world.bodies[body].colliders() {
+        for pair in world.narrow_phase.contact_pairs_with(c) {
+            if !pair.has_any_active_contact() {
+                continue;
+            }
+            let other = if pair.collider1 == c {
+                pair.collider2
+            } else {
+                pair.collider1
+            };
+            let t = match world.colliders[other].parent() {
+                Some(b) if b == body => continue,
+                Some(b) => rapier_contact_graph::Touching::Body(b),
+                None => rapier_contact_graph::Touching::Collider(other),
+            };
+            out.insert(format!("{t:?}"));
+        }
+    }
+    out
+}
