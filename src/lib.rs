@@ -88,8 +88,8 @@
 //! [`events`]); every event carries the Rapier handles of what it names. Subscribe
 //! to `Started`/`Stopped` only where you can: `ContactPersisted` and the proximity kinds need
 //! every pair read each step (proximity tracking), the others follow Rapier's own
-//! collision events under touching tracking
-//! ([`coherence::Tracking::Touching`], a fraction of the cost).
+//! collision events under touching tracking ([`coherence::Tracking::Touching`], the
+//! default, a fraction of the cost): [`KindSet::COLLISION_EVENTS`] is that set.
 //!
 //! # Coming from Rapier
 //! | Rapier | this crate |
@@ -136,8 +136,9 @@
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
 //! - [`coherence`]: the Spatial-Temporal Coherence analysis after each Rapier step
 //!   (§3): node upkeep, edge insertion, proximity and touching marks, the §3.1
-//!   obsolete test; or, with [`coherence::Tracking::Touching`], touch transitions
-//!   from Rapier's own collision events ([`coherence::TouchFeed`]);
+//!   obsolete test (proximity tracking); or, with [`coherence::Tracking::Touching`]
+//!   (the default), touch transitions from Rapier's own collision events
+//!   ([`coherence::TouchFeed`]);
 //! - [`groups`]: contact groups by the traversal of Figs. 7–8, kept incrementally;
 //! - [`logic`]: rules, timers, passive (disabled) bodies, containers (Table 1, §3.2),
 //!   and the one `PhysicsHooks` object Rapier calls ([`logic::hooks`]);
