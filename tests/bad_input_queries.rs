@@ -82,6 +82,9 @@ fn bug_node_of_collider_parentless_sensor() {
     layer.step(&mut world);
     let trigger = layer.graph().node_of_sensor(s).unwrap();
     assert_eq!(layer.node_of_collider(&world, s), Ok(trigger));
+    // Users of their own sets pass a view of them.
+    let view = WorldView::from(&world);
+    assert_eq!(layer.node_of_collider(view, s), Ok(trigger));
 }
 
 #[test]

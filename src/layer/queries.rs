@@ -201,13 +201,15 @@ impl ContactLayer {
     }
 
     /// The node of a collider: the trigger node of a sensor, else its parent body's
-    /// node, or its own for a parentless collider. O(1).
-    pub fn node_of_collider(
+    /// node, or its own for a parentless collider. `world` is a `&PhysicsWorld` or a
+    /// [`WorldView`] of one's own sets. O(1).
+    pub fn node_of_collider<'w>(
         &self,
-        world: &PhysicsWorld,
+        world: impl Into<WorldView<'w>>,
         collider: ColliderHandle,
     ) -> Result<NodeId> {
-        let c = world
+        let view = world.into();
+        let c = view
             .colliders
             .get(collider)
             .ok_or(crate::Error::UnknownCollider(collider))?;
