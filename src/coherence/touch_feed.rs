@@ -36,8 +36,8 @@ use super::*;
 /// hold (otherwise the layer tracks proximity for that step, and each switch reads
 /// the pairs once):
 /// - it is asked for ([`ContactLayer::set_tracking`](crate::ContactLayer::set_tracking));
-/// - no subscription asks for proximity or persist events
-///   ([`KindSet::NEEDS_EVERY_PAIR`](crate::events::KindSet::NEEDS_EVERY_PAIR)), and
+/// - no subscription asks for proximity or persist events (the events module's
+///   `KindSet::NEEDS_EVERY_PAIR`), and
 ///   neither the speed-ups nor the monitor run (they read every pair);
 /// - **the layer's event handler reaches Rapier's step.**
 ///   [`ContactLayer::step`](crate::ContactLayer::step) passes it itself. A user who
@@ -563,7 +563,7 @@ impl Coherence {
                 Some((false, NodeSource::Body(h))) => view
                     .bodies
                     .get(h)
-                    .map(|rb| crate::graph::mirror::disabled_sig(view, rb.colliders())),
+                    .map(|rb| nodes::disabled_sig(view, rb.colliders())),
                 _ => None,
             };
             if let (Some(sig), Some(node)) = (sig, graph.node_mut(n)) {

@@ -312,8 +312,7 @@ impl ContactGraph {
     /// `min_cos` is an error.
     ///
     /// The normals are the edges' kept contact details, which the layer keeps under
-    /// proximity tracking with the details on
-    /// ([`Coherence::details_kept`](crate::coherence::Coherence::details_kept)); under
+    /// proximity tracking with the details on (`Coherence::details_kept`); under
     /// touching tracking (the layer's default) the edges hold none and nothing is
     /// supported here: `ContactLayer::supports_of_body` reads the normals from Rapier.
     pub fn try_is_supported(&self, n: NodeId, gravity: Vector, min_cos: Real) -> Result<bool> {
