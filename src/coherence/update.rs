@@ -353,7 +353,8 @@ impl Coherence {
             self.walk_trigger(graph, view, screen, t);
         }
         self.read_changed_triggers(graph, view, screen);
-        if graph.count_of_kind(NodeKind::Sensor) > 0 {
+        let sensors = graph.count_of_kind(NodeKind::Sensor) > 0;
+        if sensors {
             for &me in walk.iter().chain(&created_now).chain(&parked) {
                 self.walk_body_sensors(graph, view, screen, me);
             }
@@ -388,7 +389,7 @@ impl Coherence {
         // Under touching tracking physical edges follow Rapier's events alone, so the
         // refreshed bodies' edges need a look only if some of them may be geometric
         // (a trigger exists): without one, not even an edge lookup per awake body.
-        let look_at_walk = !scan && (touch.is_none() || graph.count_of_kind(NodeKind::Sensor) > 0);
+        let look_at_walk = !scan && (touch.is_none() || sensors);
         for &me in walk.iter().filter(|_| look_at_walk).chain(triggers.iter()) {
             self.dead.clear();
             let Some(node) = graph.node(me) else { continue };

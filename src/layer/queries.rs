@@ -158,10 +158,8 @@ impl ContactLayer {
         &'a self,
         user: &'a H,
     ) -> crate::coherence::WithUser<'a, H> {
-        self.feed_lent
-            .store(true, std::sync::atomic::Ordering::Relaxed);
         crate::coherence::WithUser {
-            feed: &self.touch_feed,
+            feed: self.event_handler(),
             flagged: self.coherence.touch_flagged(),
             widened: self.logic.widened(),
             user,

@@ -314,8 +314,7 @@ impl ContactLayer {
                 ticks: &self.ticks,
                 removed_nodes: self.coherence.removed_nodes(),
                 view: &view,
-                details: self.coherence.contact_details()
-                    && self.coherence.tracking() == crate::coherence::Tracking::Proximity,
+                details: self.coherence.details_kept(),
             };
             // Touching tracking keeps no proximity edges and reads no unchanged pair:
             // no proximity or persist events.

@@ -274,7 +274,7 @@ impl Hanging {
             {
                 return true;
             }
-            if ctx.layer.coherence().contact_details() {
+            if ctx.layer.coherence().details_kept() {
                 graph
                     .resting_supports_of(n, up, config.min_support_cos, SUPPORT_GAP)
                     .next()
