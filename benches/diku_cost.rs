@@ -65,6 +65,18 @@ struct Runner {
 }
 
 impl Runner {
+    /// A world stepped by plain Rapier (no layer, no monitor).
+    fn plain(name: &str, world: PhysicsWorld) -> Self {
+        Runner {
+            name: name.into(),
+            world,
+            layer: None,
+            monitor: None,
+            cpu: Vec::new(),
+            moving: Vec::new(),
+        }
+    }
+
     fn step(&mut self) {
         let t0 = ThreadTime::now();
         match &mut self.layer {
@@ -103,35 +115,11 @@ fn main() {
         eprintln!("diku_cost: --steps must be at least 1");
         std::process::exit(2);
     }
+    let mut brute = scene(&args);
+    scenes::plain_solver(&mut brute, 4);
     let mut runners = vec![
-        Runner {
-            name: "stock Rapier".into(),
-            world: scene(&args),
-            layer: None,
-            monitor: None,
-            cpu: Vec::new(),
-            moving: Vec::new(),
-        },
-        {
-            let mut world = scene(&args);
-            let p = &mut world.integration_parameters;
-            p.num_solver_iterations = 4;
-            p.contact_recycling = false;
-            p.warmstart_coefficient = 0.0;
-            for (_, rb) in world.bodies.iter_mut() {
-                let a = rb.activation_mut();
-                a.normalized_linear_threshold = -1.0;
-                a.angular_threshold = -1.0;
-            }
-            Runner {
-                name: "brute force".into(),
-                world,
-                layer: None,
-                monitor: None,
-                cpu: Vec::new(),
-                moving: Vec::new(),
-            }
-        },
+        Runner::plain("stock Rapier", scene(&args)),
+        Runner::plain("brute force", brute),
     ];
     for label in &args.configs {
         let Some(bits) = SpeedUps::combination_bits(label) else {
@@ -147,12 +135,9 @@ fn main() {
         let mut monitor = Monitor::new(MonitorConfig::default()).expect("default monitor");
         monitor.prime(&WorldView::from(&world));
         runners.push(Runner {
-            name: format!("`{label}`"),
-            world,
             layer: Some(layer),
             monitor: Some(monitor),
-            cpu: Vec::new(),
-            moving: Vec::new(),
+            ..Runner::plain(&format!("`{label}`"), world)
         });
     }
     let n = runners.len();

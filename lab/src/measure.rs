@@ -314,17 +314,7 @@ pub fn run(
         ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
     match &spec.mode {
         Mode::Stock => {}
-        Mode::Plain { iterations } => {
-            let p = &mut scene.world.integration_parameters;
-            p.num_solver_iterations = *iterations;
-            p.contact_recycling = false;
-            p.warmstart_coefficient = 0.0;
-            for (_, rb) in scene.world.bodies.iter_mut() {
-                let a = rb.activation_mut();
-                a.normalized_linear_threshold = -1.0;
-                a.angular_threshold = -1.0;
-            }
-        }
+        Mode::Plain { iterations } => rcg_scenes::plain_solver(&mut scene.world, *iterations),
         Mode::Layer(s) => layer.set_speedups(Some(s.clone()))?,
     }
     let layered = matches!(spec.mode, Mode::Layer(_));

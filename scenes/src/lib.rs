@@ -55,6 +55,22 @@ pub const DT: rapier3d::math::Real = 0.01;
 /// The vertical gravity component every scene uses (gravity is `(0, GRAVITY_Y, 0)`).
 pub const GRAVITY_Y: rapier3d::math::Real = -9.81;
 
+/// Sets a world up as the paper's plain solver (brute force at 4 iterations, the
+/// reference at 16): `iterations` solver iterations, no contact recycling, no warm
+/// start, and no sleep for the bodies it has now. Shared by the laboratory's runs and
+/// the benchmarks, so that "brute force" is one configuration everywhere.
+pub fn plain_solver(world: &mut PhysicsWorld, iterations: usize) {
+    let p = &mut world.integration_parameters;
+    p.num_solver_iterations = iterations;
+    p.contact_recycling = false;
+    p.warmstart_coefficient = 0.0;
+    for (_, rb) in world.bodies.iter_mut() {
+        let a = rb.activation_mut();
+        a.normalized_linear_threshold = -1.0;
+        a.angular_threshold = -1.0;
+    }
+}
+
 /// A per-step script (drives kinematic bodies). Called before each step with the step
 /// index about to run (0-based).
 pub type Script = fn(&mut PhysicsWorld, u64);
