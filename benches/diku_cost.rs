@@ -56,8 +56,9 @@ struct Runner {
     name: String,
     world: PhysicsWorld,
     layer: Option<ContactLayer>,
-    /// A standalone monitor on the layered worlds, outside the timed step (the
-    /// speed-ups make the layer track proximity, which it reads).
+    /// A standalone monitor on the layered worlds, outside the timed step (it reads
+    /// what it needs from Rapier under the layer's default touching tracking; its
+    /// reading is not timed).
     monitor: Option<Monitor>,
     /// Per-step CPU seconds and bodies Rapier integrated after the step.
     cpu: Vec<f64>,

@@ -12,7 +12,6 @@ use rapier3d::dynamics::{SoftBodySet, SoftBodyTearEvent};
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_scenes as scenes;
 
@@ -228,11 +227,13 @@ fn tracking_switches_back_and_forth_and_with_the_speedups() {
     layer.set_tracking(Tracking::Touching);
     common::run_validated(&mut scene, &mut layer, 60, 60);
     assert_eq!(layer.coherence().tracking(), Tracking::Touching);
-    // The speed-ups need every pair: proximity tracking while they run.
-    layer.set_speedups(Some(SpeedUps::contact_graph())).unwrap();
+    // A persist subscription needs every pair: proximity tracking while it lasts.
+    let (id, rx) =
+        layer.subscribe_with_id(Filter::kinds(KindSet::of(&[EventKind::ContactPersisted])));
     common::run_validated(&mut scene, &mut layer, 120, 60);
     assert_eq!(layer.coherence().tracking(), Tracking::Proximity);
-    layer.set_speedups(None).unwrap();
+    assert!(rx.try_iter().count() > 0);
+    layer.unsubscribe(id);
     common::run_validated(&mut scene, &mut layer, 180, 60);
     assert_eq!(layer.coherence().tracking(), Tracking::Touching);
     layer.set_tracking(Tracking::Proximity);

@@ -9,6 +9,7 @@ mod common;
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
+use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error, WorldMut, WorldView};
 use rcg_scenes as scenes;
@@ -151,7 +152,7 @@ fn passing_the_handler_switches_on_and_stopping_switches_back_without_losing_a_t
 }
 
 #[test]
-fn speedups_or_a_persist_subscription_switch_to_proximity_until_they_go() {
+fn a_persist_subscription_switches_to_proximity_until_it_goes_and_speedups_or_the_monitor_do_not() {
     let mut scene = scenes::sphere_pile(60, 3);
     let mut layer = ContactLayer::new();
     let mut step = 0;
@@ -174,8 +175,19 @@ fn speedups_or_a_persist_subscription_switch_to_proximity_until_they_go() {
     run(&mut layer, 0, 10, Tracking::Proximity);
     layer.unsubscribe(id);
     run(&mut layer, 0, 10, Tracking::Touching);
+    // The speed-ups and the monitor read what they need from Rapier for the bodies
+    // concerned: touching tracking stays.
     layer.set_speedups(Some(SpeedUps::contact_graph())).unwrap();
-    run(&mut layer, 0, 10, Tracking::Proximity);
+    run(&mut layer, 0, 10, Tracking::Touching);
+    layer
+        .set_monitor(
+            MonitorMode::Repair,
+            MonitorConfig::default(),
+            RepairConfig::default(),
+        )
+        .unwrap();
+    run(&mut layer, 0, 10, Tracking::Touching);
+    layer.set_monitor(MonitorMode::Off, MonitorConfig::default(), RepairConfig::default()).unwrap();
     layer.set_speedups(None).unwrap();
     run(&mut layer, 3, 10, Tracking::Touching);
 }

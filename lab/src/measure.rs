@@ -307,11 +307,11 @@ pub fn run(
             reason: "must be at least 1".into(),
         });
     }
-    // The standalone monitor below reads the layer's per-edge details (support
-    // normals, penetration depths): proximity tracking (the speed-ups and the layer's
-    // own monitor would switch to it anyway).
-    let mut layer =
-        ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
+    // The layer's default tracking (touching): the speed-ups, the layer's own monitor
+    // and the standalone monitor below read what they need from Rapier, and decide
+    // and judge the same as under proximity tracking (the plugin's
+    // `speedups_under_touching` and `monitor_under_touching` tests).
+    let mut layer = ContactLayer::new();
     match &spec.mode {
         Mode::Stock => {}
         Mode::Plain { iterations } => rcg_scenes::plain_solver(&mut scene.world, *iterations),

@@ -9,9 +9,11 @@
 //! accumulation as the per-step copy ([`super::pairs::accumulate_pair`]), so that both
 //! give the same figures for the same world.
 
+use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::ColliderHandle;
 
-use crate::graph::{mirror as nodes, ContactCache, ContactGraph, NodeId};
+use crate::graph::validate::edge_allowed;
+use crate::graph::{mirror as nodes, ContactCache, ContactGraph, EdgeKind, NodeId};
 use crate::WorldView;
 
 /// The details of the contact between `a` and `b` as Rapier's narrow phase holds
@@ -50,4 +52,91 @@ pub(crate) fn read_details(
         }
     }
     any.then_some(cache)
+}
+
+/// The nodes whose contact with `n` holds it up against gravity now, read from
+/// Rapier's narrow phase whatever the tracking: the test of the graph's
+/// `ContactGraph::resting_supports_of` (a contact that touches or lies within `gap`,
+/// whose impulses' resultant, or else its deepest normal, pushes `n` along `up` by
+/// more than `min_cos`), on every collider pair of `n`'s colliders with a node a
+/// physical edge may join (Table 2: not two fixed nodes; not a sensor). Under
+/// proximity tracking with the details kept it gives what the edges' caches give;
+/// under touching tracking, which keeps no details and no edge for a pair within the
+/// gap that does not touch, it is the only way to the answer. In node order, without
+/// repeats. O(the contact pairs of `n`'s colliders).
+pub(crate) fn resting_supports(
+    graph: &ContactGraph,
+    view: &WorldView,
+    n: NodeId,
+    up: Vector,
+    min_cos: Real,
+    gap: Real,
+    out: &mut Vec<NodeId>,
+) {
+    out.clear();
+    let Some(kind) = graph.node(n).map(|node| node.kind()) else {
+        return;
+    };
+    let mut mine: Vec<ColliderHandle> = Vec::new();
+    if !super::colliders_of(graph, view, n, &mut mine) {
+        return;
+    }
+    // Per neighbour, the details oriented as if `n` were the edge's B: the normal
+    // points from the neighbour into `n`, the push is what it does to `n`.
+    let mut per: Vec<(NodeId, ContactCache)> = Vec::new();
+    for &c in &mine {
+        for pair in view.narrow_phase.contact_pairs_with(c) {
+            let other = super::pairs::other_collider(pair, c);
+            let Some(m) = owner_node(graph, view, other) else {
+                continue;
+            };
+            let allowed = m != n
+                && graph.node(m).is_some_and(|o| {
+                    edge_allowed(EdgeKind::Physical, kind, o.kind())
+                });
+            if !allowed {
+                continue;
+            }
+            let at = match per.iter().position(|(x, _)| *x == m) {
+                Some(i) => i,
+                None => {
+                    let mut cache = ContactCache::default();
+                    cache.begin_update(true);
+                    per.push((m, cache));
+                    per.len() - 1
+                }
+            };
+            // `flip`: `collider1` belongs to the B end, `n`.
+            super::pairs::accumulate_pair(&mut per[at].1, pair, pair.collider1 == c, true);
+        }
+    }
+    for (m, cache) in &per {
+        let close = cache.touching || cache.min_distance <= gap;
+        if !close {
+            continue;
+        }
+        let dir = if cache.push != Vector::ZERO {
+            cache.push.normalize()
+        } else {
+            cache.normal
+        };
+        if dir.dot(up) > min_cos {
+            out.push(*m);
+        }
+    }
+    out.sort_unstable();
+}
+
+/// The node a collider belongs to in the graph, without creating one: its parent
+/// body's, or its own as static geometry. `None` for a sensor or an unknown collider.
+/// O(1).
+fn owner_node(graph: &ContactGraph, view: &WorldView, c: ColliderHandle) -> Option<NodeId> {
+    let co = view.colliders.get(c)?;
+    if co.is_sensor() {
+        return None;
+    }
+    match co.parent() {
+        Some(parent) => graph.node_of_body(parent),
+        None => graph.node_of_static_collider(c),
+    }
 }

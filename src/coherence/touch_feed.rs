@@ -37,8 +37,12 @@ use super::*;
 /// the pairs once):
 /// - it is asked for ([`ContactLayer::set_tracking`](crate::ContactLayer::set_tracking));
 /// - no subscription asks for proximity or persist events (the events module's
-///   `KindSet::NEEDS_EVERY_PAIR`), and
-///   neither the speed-ups nor the monitor run (they read every pair);
+///   `KindSet::NEEDS_EVERY_PAIR`), and the monitor does not run (it reads every
+///   pair's penetration each step). The speed-ups run under either tracking: what
+///   they read besides the touching edges (what holds a body up when it is fixated
+///   or its support is judged) they read from Rapier's narrow phase for the bodies
+///   concerned, the same figures under both, so that they decide the same and the
+///   world is the same bit for bit (`tests/speedups_under_touching.rs`);
 /// - **the layer's event handler reaches Rapier's step.**
 ///   [`ContactLayer::step`](crate::ContactLayer::step) passes it itself. A user who
 ///   steps Rapier by hand passes
@@ -299,8 +303,8 @@ impl Coherence {
         self.feed_connected = connected;
     }
 
-    /// The tracking asked for (in effect while neither the speed-ups nor the monitor
-    /// run).
+    /// The tracking asked for (in effect while nothing needs every pair read: see
+    /// [`Tracking`]).
     pub fn requested_tracking(&self) -> Tracking {
         self.tracking_requested
     }
@@ -339,7 +343,8 @@ impl Coherence {
             let lacks = colliders
                 .get(c)
                 .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS));
-            if let Some(co) = colliders.get_mut(c).filter(|_| lacks) {
+            // (`lacks` first: `get_mut` marks the collider even when nothing is written.)
+            if let Some(co) = lacks.then(|| colliders.get_mut(c)).flatten() {
                 co.set_active_events(co.active_events() | ActiveEvents::COLLISION_EVENTS);
                 flagged.insert(c.into_raw_parts(), c);
                 rescan.push(c);

@@ -87,6 +87,7 @@ impl Coherence {
     /// regroups their ends.
     pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
         let step = self.step;
+        graph.drop_disallowed_edges();
         for n in std::mem::take(&mut graph.evicted) {
             self.remove_node(graph, groups, n);
         }

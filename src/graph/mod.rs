@@ -417,9 +417,11 @@ impl ContactGraph {
         id
     }
 
-    /// Changes a node's kind; edges the new kind does not allow (Table 2: a body turned
-    /// fixed keeps no physical edge with another fixed body) are removed and kept in
-    /// `dropped` for the layer to report.
+    /// Changes a node's kind. The edges the new kind does not allow (Table 2: a body
+    /// turned fixed keeps no physical edge with another fixed body) are removed by
+    /// [`Self::drop_disallowed_edges`] once every kind change of the update is made:
+    /// two bodies that swap kinds in one step (one held, its fixed neighbour released)
+    /// never form a fixed pair in Rapier, and their touching edge stays. O(1).
     pub(crate) fn set_kind(&mut self, id: NodeId, kind: NodeKind) {
         let old = match self.node_mut(id) {
             Some(n) => std::mem::replace(&mut n.kind, kind),
@@ -428,19 +430,31 @@ impl ContactGraph {
         self.kind_counts[kind_slot(old)] -= 1;
         self.kind_counts[kind_slot(kind)] += 1;
         self.kind_changed.push(id);
-        let incident = self.node(id).map(|n| n.edges.clone()).unwrap_or_default();
-        for eid in incident {
-            let Some(e) = self.edge(eid) else { continue };
-            let other = if e.a == id { e.b } else { e.a };
-            let Some(ok) = self
-                .node(other)
-                .map(|o| validate::edge_allowed(e.kind, kind, o.kind))
-            else {
+    }
+
+    /// Removes the edges of the nodes whose kind changed that their kinds no longer
+    /// allow (Table 2), keeping them in `dropped` for the layer to report. O(the
+    /// changed nodes' degrees).
+    pub(crate) fn drop_disallowed_edges(&mut self) {
+        for i in 0..self.kind_changed.len() {
+            let id = self.kind_changed[i];
+            let Some(kind) = self.node(id).map(|n| n.kind) else {
                 continue;
             };
-            if !ok {
-                if let Some(e) = self.remove_edge(eid) {
-                    self.dropped.push(e);
+            let incident = self.node(id).map(|n| n.edges.clone()).unwrap_or_default();
+            for eid in incident {
+                let Some(e) = self.edge(eid) else { continue };
+                let other = if e.a == id { e.b } else { e.a };
+                let Some(ok) = self
+                    .node(other)
+                    .map(|o| validate::edge_allowed(e.kind, kind, o.kind))
+                else {
+                    continue;
+                };
+                if !ok {
+                    if let Some(e) = self.remove_edge(eid) {
+                        self.dropped.push(e);
+                    }
                 }
             }
         }

@@ -79,7 +79,7 @@ impl ContactLayer {
     /// [`Tracking::Touching`](crate::coherence::Tracking::Touching) (the default)
     /// keeps touching edges only and takes their beginnings and ends from Rapier's
     /// collision events, at a cost proportional to the events, while nothing needs
-    /// more: no subscription to proximity or persist events, no speed-ups, no monitor,
+    /// more: no subscription to proximity or persist events,
     /// and the layer's event handler reaches Rapier's step. Otherwise the layer tracks
     /// proximity meanwhile; each switch costs one full read of the pairs at the next
     /// update. [`Tracking::Proximity`](crate::coherence::Tracking::Proximity) reads
@@ -118,8 +118,8 @@ impl ContactLayer {
     }
 
     /// Whether touching tracking is in effect for the next step: asked for (the
-    /// default), no subscription to proximity or persist events, neither the
-    /// speed-ups nor the monitor on, and the layer's event handler given to the last
+    /// default), no subscription to proximity or persist events, and the layer's
+    /// event handler given to the last
     /// analysed step (always so with [`Self::step`]; see
     /// [`Tracking`](crate::coherence::Tracking)). O(subscriptions).
     pub fn touching_in_effect(&self) -> bool {
@@ -127,11 +127,10 @@ impl ContactLayer {
     }
 
     /// Touching tracking asked for, and nothing that needs every pair read: no
-    /// subscription to proximity or persist events, no speed-ups, no monitor.
+    /// subscription to proximity or persist events. (The speed-ups and the monitor
+    /// read what they need from Rapier for the bodies concerned.)
     pub(crate) fn touching_wanted(&self) -> bool {
         self.coherence.requested_tracking() == crate::coherence::Tracking::Touching
-            && self.speedups.is_none()
-            && self.monitor.is_none()
             && !self
                 .bus
                 .wanted()

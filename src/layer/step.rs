@@ -254,6 +254,7 @@ impl ContactLayer {
                 &self.groups,
                 self.coherence.refreshed_nodes(),
                 self.coherence.touched_edges(),
+                self.coherence.removed_edges(),
                 !self.coherence.removed_nodes().is_empty(),
                 step,
             );

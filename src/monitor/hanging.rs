@@ -14,15 +14,11 @@
 //! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
 //! which it does when something touching it is removed — so it needs no look.
 //!
-//! Support is judged by the contact normals, which the layer keeps only under
-//! proximity tracking with its contact details on; with the details off, any touching
-//! contact counts as support, so the detector never raises a false alarm but misses a
-//! body held against a wall. Under touching tracking (the layer's default without the
-//! speed-ups or its own monitor) nothing is judged: the graph has neither normals nor
-//! the resting contacts within [`SUPPORT_GAP`] (they send no `Started`). A layer read
-//! by a standalone monitor tracks proximity
-//! (`ContactLayer::with_tracking(Tracking::Proximity)`); the layer's own monitor
-//! ([`crate::ContactLayer::set_monitor`]) has it by itself.
+//! Support is judged by the contact normals and the contacts within [`SUPPORT_GAP`]:
+//! from the edges' caches under proximity tracking with the contact details kept, and
+//! otherwise (touching tracking, the default, keeps neither) from Rapier's narrow
+//! phase for the body looked at, by the same test on the same pairs. Only held bodies
+//! are judged, so the reading costs O(their contact pairs).
 
 use std::collections::HashMap;
 
@@ -30,6 +26,7 @@ use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 
 use super::{simulated, Ctx, MonitorConfig, Peaks, Violation, ViolationKind};
+use crate::coherence::details::resting_supports;
 use crate::graph::NodeId;
 use crate::speedups::SUPPORT_GAP;
 
@@ -274,20 +271,29 @@ impl Hanging {
             {
                 return true;
             }
+            // The edges' caches under proximity tracking with the details kept;
+            // otherwise (touching tracking keeps neither normals nor the contacts
+            // within the gap that do not touch) the same test on Rapier's pairs.
             if ctx.layer.coherence().details_kept() {
                 graph
                     .resting_supports_of(n, up, config.min_support_cos, SUPPORT_GAP)
                     .next()
                     .is_some()
             } else {
-                graph.touching(n).next().is_some()
+                let mut found = Vec::new();
+                resting_supports(
+                    graph,
+                    ctx.view,
+                    n,
+                    up,
+                    config.min_support_cos,
+                    SUPPORT_GAP,
+                    &mut found,
+                );
+                !found.is_empty()
             }
         };
-        // Under touching tracking the graph has neither normals nor the resting
-        // contacts within the gap (they never send `Started`): support cannot be
-        // judged, and a false alarm is worse than none.
-        let judged = ctx.layer.coherence().tracking() == crate::coherence::Tracking::Proximity;
-        if !is_held || !judged || supported() {
+        if !is_held || supported() {
             self.timed.remove(&h);
             return;
         }

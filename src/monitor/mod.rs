@@ -7,10 +7,13 @@
 //!   touching contact for longer than [`MonitorConfig::hang_time`]. "Supporting" is
 //!   the graph's own query ([`crate::ContactGraph::supports_of`]): a touching physical
 //!   edge whose normal, as it pushes the body, has more than
-//!   [`MonitorConfig::min_support_cos`] of its length along `-gravity`. A body resting on a fixed slope is supported; a body
+//!   [`MonitorConfig::min_support_cos`] of its length along `-gravity` (or a contact
+//!   within the support gap that pushes so), read from the edges' caches under
+//!   proximity tracking and from Rapier's narrow phase under touching tracking. A
+//!   body resting on a fixed slope is supported; a body
 //!   left in the air when what it rested on rolled away or was removed is not. The
-//!   cached normals of sleeping pairs are frozen in Rapier and in the graph, so the
-//!   query is exact for sleeping bodies too.
+//!   normals of sleeping pairs are frozen in Rapier (and in the graph's caches), so
+//!   the query is exact for sleeping bodies too.
 //! - **Launch** (paper Fig. 15 ♠: "objects actually fly up in the air … due to
 //!   constraint stabilization correcting large errors"): kinetic energy appearing from
 //!   nowhere. A literal per-body test ("a body's kinetic energy rose by more than
@@ -29,8 +32,9 @@
 //!   two 0.5 m boxes created 0.3 m into each other separate at 0.2 m/s, which is not a
 //!   launch. Launches come from stiffer settings and from the speed-ups (releasing a
 //!   body fixated by extra mass throws what it sank into).
-//! - **Deep penetration**: a touching physical edge whose deepest penetration
-//!   (`cache().max_penetration`) exceeds [`MonitorConfig::penetration_fraction`] of the
+//! - **Deep penetration**: a touching physical edge of an awake body whose deepest
+//!   penetration (`cache().max_penetration`, or read from Rapier under touching
+//!   tracking) exceeds [`MonitorConfig::penetration_fraction`] of the
 //!   smaller body's size; a body's size is the smallest extent of the union of its
 //!   (non-sensor) colliders' AABBs *in the body's own frame*, so it does not change as
 //!   the body rotates and can be cached.
@@ -248,18 +252,17 @@ pub struct Peaks {
 
 /// The plausibility monitor: call [`Monitor::check`] once after each step's analysis.
 ///
-/// A standalone monitor reads the layer's per-edge contact details (normals for
-/// support, depths for penetration), which the layer keeps under proximity tracking:
-/// build the layer it reads with `ContactLayer::with_tracking(Tracking::Proximity)`.
-/// Under touching tracking the hanging and penetration detectors judge nothing (see
-/// their modules). The layer's own monitor
-/// ([`ContactLayer::set_monitor`](crate::ContactLayer::set_monitor)) switches the
-/// layer to proximity tracking by itself while it runs.
+/// A standalone monitor reads the layer's contact details where it needs them
+/// (normals and the contacts within the support gap for a held body's support, depths
+/// for the touching contacts of the awake bodies): from the edges' caches under
+/// proximity tracking with the details kept, otherwise from Rapier's narrow phase,
+/// with the same figures. It judges the same under either tracking, the default
+/// included. The layer's own monitor
+/// ([`ContactLayer::set_monitor`](crate::ContactLayer::set_monitor)) does the same.
 ///
 /// # Example
 /// ```
 /// use rapier3d::prelude::*;
-/// use rapier_contact_graph::coherence::Tracking;
 /// use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
 /// use rapier_contact_graph::{ContactLayer, WorldView};
 ///
@@ -269,7 +272,7 @@ pub struct Peaks {
 ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.5, 0.0)),
 ///     ColliderBuilder::ball(0.5),
 /// );
-/// let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
+/// let mut layer = ContactLayer::new();
 /// let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
 /// for _ in 0..100 {
 ///     layer.step(&mut world);
@@ -456,8 +459,14 @@ impl Monitor {
             .check(&ctx, &self.config, &mut self.found, &mut self.peaks);
         self.escape.check(&ctx, quarantined, &mut self.found);
 
-        self.found
-            .sort_by_key(|v| (v.kind, v.body.into_raw_parts()));
+        // A total order (two deep contacts of one body by their depth), so that the
+        // order the detectors met them in, which follows the graph's edge order,
+        // does not show.
+        self.found.sort_by(|a, b| {
+            (a.kind, a.body.into_raw_parts(), a.node)
+                .cmp(&(b.kind, b.body.into_raw_parts(), b.node))
+                .then(a.value.total_cmp(&b.value))
+        });
         for v in &self.found {
             self.totals.add(v.kind);
         }

@@ -5,9 +5,11 @@
 //! smallest extent of the union of its non-sensor colliders' AABBs in its own frame
 //! (a static collider's: its shape's local AABB); it is cached per node and recomputed
 //! when the body's collider count changes (a shape replaced in place with `set_shape`
-//! is not noticed). Needs the layer's contact details kept, which proximity tracking
-//! with the details on does (`Coherence::details_kept`): without them the penetration
-//! is not maintained and nothing is checked.
+//! is not noticed). The depths: under proximity tracking with the details kept
+//! (`Coherence::details_kept`), the touched edges' caches; otherwise (touching
+//! tracking, the default) the touching edges of the refreshed bodies, read from
+//! Rapier's narrow phase (the same figures: the same accumulation of the same pairs).
+//! O(touching pairs of the awake bodies) per step either way.
 
 use std::collections::{HashMap, HashSet};
 
@@ -15,6 +17,7 @@ use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::ColliderHandle;
 
 use super::{Ctx, MonitorConfig, Peaks, Violation, ViolationKind};
+use crate::coherence::details::read_details;
 use crate::graph::{EdgeId, EdgeKind, NodeId, NodeSource};
 use crate::WorldView;
 
@@ -110,16 +113,37 @@ impl Penetration {
             }
         }
         self.last_deepest = None;
-        if !layer.coherence().details_kept() {
-            return;
+        let kept = layer.coherence().details_kept();
+        // Under touching tracking the touched edges are only those whose touching
+        // began or ended: the edges looked at are the refreshed bodies' touching
+        // ones, in edge order, with their depth read from Rapier.
+        let mut edges: Vec<EdgeId> = Vec::new();
+        if kept {
+            edges.extend_from_slice(layer.coherence().touched_edges());
+        } else {
+            for &n in layer.coherence().refreshed_nodes() {
+                if let Some(node) = graph.node(n) {
+                    edges.extend(node.edges().iter().copied());
+                }
+            }
+            edges.sort_unstable();
+            edges.dedup();
         }
-        for &eid in layer.coherence().touched_edges() {
+        for eid in edges {
             let Some(e) = graph.edge(eid) else { continue };
             if e.kind() != EdgeKind::Physical || !e.is_touching() {
                 self.deep.remove(&eid);
                 continue;
             }
-            let depth = e.cache().max_penetration;
+            let depth = if kept {
+                e.cache().max_penetration
+            } else {
+                let (a, b) = e.nodes();
+                match read_details(graph, ctx.view, a, b) {
+                    Some(c) => c.max_penetration,
+                    None => continue,
+                }
+            };
             let (a, b) = e.nodes();
             let (Some(na), Some(nb)) = (graph.node(a), graph.node(b)) else {
                 continue;
@@ -136,8 +160,13 @@ impl Penetration {
             if limit > 0.0 {
                 let ratio = depth / limit;
                 peaks.penetration = peaks.penetration.max(ratio);
-                if ratio > self.last_deepest.map_or(0.0, |(r, _)| r) {
-                    let simulated = if na.kind().is_simulated() { a } else { b };
+                let simulated = if na.kind().is_simulated() { a } else { b };
+                // Ties to the smaller node: the same whatever order the edges come in.
+                let deeper = match self.last_deepest {
+                    None => ratio > 0.0,
+                    Some((r, n)) => ratio > r || (ratio == r && simulated < n),
+                };
+                if deeper {
                     self.last_deepest = Some((ratio, simulated));
                 }
             }

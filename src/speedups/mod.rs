@@ -72,6 +72,7 @@ use rapier3d::dynamics::{RigidBodyActivation, RigidBodyType};
 use rapier3d::math::{Pose, Vector};
 use rapier3d::prelude::{ActiveHooks, ColliderHandle, RigidBodyHandle};
 
+use crate::coherence::details::resting_supports;
 use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::logic::hooks::ContactMods;
 use crate::logic::WorldMut;
@@ -149,14 +150,15 @@ const MIN_SUPPORT_COS: f32 = 0.1;
 pub(crate) const SUPPORT_GAP: f32 = 0.002;
 
 /// Whether a held body rests on something now: a contact Rapier computes (against
-/// bodies that are not fixed) that pushes it up. O(degree).
-fn rests_now(graph: &ContactGraph, h: RigidBodyHandle, up: Vector) -> bool {
-    graph.node_of_body(h).is_some_and(|n| {
-        graph
-            .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
-            .next()
-            .is_some()
-    })
+/// bodies that are not fixed) that pushes it up, read from Rapier's narrow phase
+/// (see [`resting_supports`]). O(its contact pairs).
+fn rests_now(graph: &ContactGraph, view: &WorldView, h: RigidBodyHandle, up: Vector) -> bool {
+    let Some(n) = graph.node_of_body(h) else {
+        return false;
+    };
+    let mut found = Vec::new();
+    resting_supports(graph, view, n, up, MIN_SUPPORT_COS, SUPPORT_GAP, &mut found);
+    !found.is_empty()
 }
 
 /// A pose as bits, for ordering (`None` first).
@@ -583,6 +585,15 @@ impl SpeedUpState {
         }
         self.zero_flags.clear();
 
+        // Written in handle order: Rapier records modified bodies in the order they
+        // are written, and that order reaches its islands and solver. The decisions
+        // come in group and neighbour order, which depends on the order the graph
+        // learnt its edges in (Rapier's pairs or its events): sorted, the same
+        // decisions give the same world whatever the tracking. (Stable: a body
+        // decided twice keeps its last decision.)
+        self.eligibility.sort_by_key(|(h, _)| key(*h));
+        self.to_release.sort_by_key(|h| key(*h));
+        self.to_fix.sort_by_key(|(h, _)| key(*h));
         for (h, eligible) in std::mem::take(&mut self.eligibility) {
             if let Some(rb) = world.bodies.get_mut(h) {
                 if rb.is_dynamic() {
@@ -905,6 +916,7 @@ impl SpeedUpState {
         groups: &crate::Groups,
         refreshed: &[NodeId],
         touched: &[crate::graph::EdgeId],
+        removed: &[crate::graph::Edge],
         nodes_removed: bool,
         step: u64,
     ) {
@@ -985,7 +997,8 @@ impl SpeedUpState {
                     }
                 }
             }
-            // Fixate: every sleepy awake simulated body.
+            // Fixate: every sleepy awake simulated body, with what holds it up now.
+            let mut found = Vec::new();
             for &n in refreshed {
                 let Some(node) = graph.node(n) else { continue };
                 if node.kind() != NodeKind::Dynamic || !node.is_awake() {
@@ -994,9 +1007,18 @@ impl SpeedUpState {
                 let Some(h) = node.body() else { continue };
                 if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
                     let supports = if up.is_finite() && up != Vector::ZERO {
-                        graph
-                            .resting_supports_of(n, up, MIN_SUPPORT_COS, SUPPORT_GAP)
-                            .map(|m| Supporter {
+                        resting_supports(
+                            graph,
+                            view,
+                            n,
+                            up,
+                            MIN_SUPPORT_COS,
+                            SUPPORT_GAP,
+                            &mut found,
+                        );
+                        found
+                            .iter()
+                            .map(|&m| Supporter {
                                 node: m,
                                 pose: graph
                                     .node(m)
@@ -1013,7 +1035,7 @@ impl SpeedUpState {
             }
             // Everything again when something it depends on changed; otherwise only
             // the newly held bodies, unless one of them is unsupported.
-            if self.support_changed(graph, view, up, touched, nodes_removed, step)
+            if self.support_changed(graph, view, up, touched, removed, nodes_removed, step)
                 || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
             {
                 self.evaluate_support(graph, view, up);
@@ -1036,7 +1058,7 @@ impl SpeedUpState {
             let Some(held) = self.held.get(&k) else {
                 continue;
             };
-            let ok = rests_now(graph, held.handle, up)
+            let ok = rests_now(graph, view, held.handle, up)
                 || held.supports.iter().any(|s| {
                     let Some(node) = graph.node(s.node) else {
                         return false;
@@ -1114,14 +1136,20 @@ impl SpeedUpState {
 
     /// Whether anything the support memory depends on changed since its last
     /// evaluation: the held set, "up", a node removed, a touching contact of a held
-    /// body begun or ended (edges dropped when a body turns fixed count as removed), a static supporter moved, a scripted supporter moving.
-    /// O(touched edges + distinct static and scripted supporters).
+    /// body begun or ended, a static supporter moved, a scripted supporter moving. A
+    /// touch that ended is a touched edge marked `Vanished` under proximity tracking,
+    /// and a removed edge that was touching under touching tracking (which keeps an
+    /// edge only while it touches) or when a kind change dropped it: both are looked
+    /// at, so that both trackings decide the same.
+    /// O(touched and removed edges + distinct static and scripted supporters).
+    #[allow(clippy::too_many_arguments)]
     fn support_changed(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         up: Vector,
         touched: &[crate::graph::EdgeId],
+        removed: &[crate::graph::Edge],
         nodes_removed: bool,
         step: u64,
     ) -> bool {
@@ -1143,7 +1171,13 @@ impl SpeedUpState {
                     && (held_node(e.a()) || held_node(e.b()))
             })
         });
+        let ended = removed.iter().any(|e| {
+            e.kind() == EdgeKind::Physical
+                && e.cache().touching_old
+                && (held_node(e.a()) || held_node(e.b()))
+        });
         step_contacts
+            || ended
             || self.support_watch.iter().any(|&(n, pose)| match pose {
                 Some(p) => static_pose(graph, view, n) != Some(p),
                 None => graph
@@ -1220,7 +1254,7 @@ impl SpeedUpState {
             if graph.node_of_body(held.handle).is_none() {
                 continue;
             }
-            let mut base = rests_now(graph, held.handle, up);
+            let mut base = rests_now(graph, view, held.handle, up);
             for s in &held.supports {
                 if base {
                     break;
