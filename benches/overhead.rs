@@ -26,6 +26,7 @@
 //! cargo bench --bench overhead                                  # spheres, N = 1000 and 5000
 //! cargo bench --bench overhead -- --scene mixed 1000            # 1,000 balls and boxes
 //! cargo bench --bench overhead -- --events all --repeats 3      # proximity and persist
+//! cargo bench --bench overhead -- --sensor 5000                # with a sensor over a quarter of the bin
 //! ```
 //! The default 600 steps (6 simulated seconds at dt = 0.01) cover the fall and the
 //! settling of the pile; the last `--tail` steps are also reported on their own as the
@@ -35,7 +36,7 @@ use std::hint::black_box;
 
 use clap::{Parser, ValueEnum};
 use cpu_time::ThreadTime;
-use rapier3d::prelude::PhysicsWorld;
+use rapier3d::prelude::{ColliderBuilder, PhysicsWorld, Vector};
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::events::{Event, Filter, KindSet};
 use rapier_contact_graph::{ContactLayer, Receiver, WorldMut, WorldView};
@@ -93,6 +94,10 @@ struct Args {
     /// Runs per configuration (min / median / max are printed).
     #[arg(long, default_value_t = 1)]
     repeats: usize,
+    /// Adds a sensor to the bin (a box over one quarter of the floor, 1 m high,
+    /// without a body): the bodies inside it hold geometric edges.
+    #[arg(long)]
+    sensor: bool,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -122,11 +127,21 @@ struct Run {
     events: u64,
 }
 
-fn build(scene: SceneArg, n: usize) -> PhysicsWorld {
-    match scene {
+fn build(scene: SceneArg, n: usize, sensor: bool) -> PhysicsWorld {
+    let mut world = match scene {
         SceneArg::Spheres => scenes::sphere_pile(n, SEED).world,
         SceneArg::Mixed => scenes::mixed_pile(n, SEED).world,
+    };
+    if sensor {
+        let q = scenes::pile::inner_half_width(n) / 2.0;
+        world.insert_collider(
+            ColliderBuilder::cuboid(q, 0.5, q)
+                .translation(Vector::new(q, 0.5, q))
+                .sensor(true),
+            None,
+        );
     }
+    world
 }
 
 fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
@@ -180,8 +195,8 @@ fn bit_identical(a: &PhysicsWorld, b: &PhysicsWorld) -> bool {
 }
 
 fn run(scene: SceneArg, n: usize, args: &Args) -> Run {
-    let mut plain = build(scene, n);
-    let mut layered = build(scene, n);
+    let mut plain = build(scene, n, args.sensor);
+    let mut layered = build(scene, n, args.sensor);
     let mut layer = ContactLayer::new();
     if args.tracking == TrackingArg::Proximity {
         layer.set_tracking(Tracking::Proximity);
@@ -251,12 +266,13 @@ fn main() {
     }
     println!(
         "observe-only layer / plain Rapier, {} steps (settled: last {}), events {:?}, \
-         tracking asked {:?}, {} run(s) each (min / median / max), thread CPU time",
+         tracking asked {:?}, {} run(s) each (min / median / max), thread CPU time{}",
         args.steps,
         args.tail.min(args.steps),
         args.events,
         args.tracking,
-        args.repeats
+        args.repeats,
+        if args.sensor { ", a sensor in the bin" } else { "" }
     );
     println!(
         "| scene | N | tracking at end | layered / plain, whole run | layered / plain, settled \

@@ -506,6 +506,7 @@ impl ContactLayer {
         // The groups' positions and counts are not in the bytes: rebuilt from the
         // groups' lists (on any bytes), then checked with the rest.
         state.groups.reindex(&mut state.graph);
+        state.graph.recount_geometric();
         check_state(&state).map_err(|e| Error::Invariant(format!("snapshot: {e}")))?;
         bind_predicates(&mut state.logic, bind)?;
         let mut state = state;

@@ -2,8 +2,8 @@
 //! proximity tracking: a held body's support and the awake bodies' penetrations are
 //! read from Rapier's narrow phase when the graph keeps no details, with the same
 //! figures. On every scene of the stability suite, built to make the speed-ups fail,
-//! with the monitor reporting and repairing: the same violations and repairs and the
-//! same poses at every step, with `validate()` after each.
+//! with the monitor reporting and repairing: the same violations, repairs, deepest
+//! contact and peaks, and the same poses at every step, with `validate()` after each.
 
 mod common;
 
@@ -53,7 +53,16 @@ fn run(scene: fn() -> Scene, bits: u8, mode: MonitorMode, tracking: Tracking) ->
             .map(|v| (v.kind, v.body.into_raw_parts(), v.value.to_bits()))
             .collect();
         found += violations.len();
-        out.push(format!("{:?} {violations:?}", pose_bits(&scene.world)));
+        // The deepest contact (relative to its limit) and the peaks: the depths and
+        // supports read, bit for bit.
+        let deepest = m.monitor().last_deepest().map(|(r, n)| (r.to_bits(), n));
+        let peaks = m.monitor().peaks();
+        out.push(format!(
+            "{:?} {violations:?} {deepest:?} {} {}",
+            pose_bits(&scene.world),
+            peaks.penetration.to_bits(),
+            peaks.hang.to_bits()
+        ));
     }
     let m = layer.monitor().unwrap();
     out.push(format!("{:?} {:?}", m.monitor().totals(), m.repairs()));

@@ -140,3 +140,79 @@ fn owner_node(graph: &ContactGraph, view: &WorldView, c: ColliderHandle) -> Opti
         None => graph.node_of_static_collider(c),
     }
 }
+
+/// The deepest penetration of each touching edge of the nodes in `nodes`, read from
+/// Rapier's narrow phase in one pass over each node's collider pairs: what the
+/// per-edge caches hold as `ContactCache::max_penetration` under proximity tracking
+/// (the largest `-distance` over every contact point of every collider pair of the
+/// edge, at least 0), for touching tracking, which copies none. An edge between two
+/// of the nodes is read once, from its smaller node. Appended to `out` as
+/// `(edge, depth)` in edge order, each edge once. O(the nodes' contact pairs).
+pub(crate) fn touching_depths(
+    graph: &ContactGraph,
+    view: &WorldView,
+    nodes: &[NodeId],
+    out: &mut Vec<(crate::graph::EdgeId, Real)>,
+) {
+    let mut sorted: Vec<NodeId> = nodes.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    let mut mine: Vec<ColliderHandle> = Vec::new();
+    // Per neighbour of the node at hand: the smallest distance over its pairs.
+    let mut per: Vec<(NodeId, Real)> = Vec::new();
+    for &n in &sorted {
+        let Some(node) = graph.node(n) else { continue };
+        // Only nodes with a touching edge have anything to read.
+        let any = node.edges().iter().any(|&e| {
+            graph
+                .edge(e)
+                .is_some_and(|e| e.is_touching() && e.kind() == EdgeKind::Physical)
+        });
+        if !any || !super::colliders_of(graph, view, n, &mut mine) {
+            continue;
+        }
+        per.clear();
+        for &c in &mine {
+            for pair in view.narrow_phase.contact_pairs_with(c) {
+                let other = super::pairs::other_collider(pair, c);
+                let Some(m) = owner_node(graph, view, other) else {
+                    continue;
+                };
+                // A pair with another listed node is read from the smaller one.
+                if m == n || (m < n && sorted.binary_search(&m).is_ok()) {
+                    continue;
+                }
+                let mut deepest = Real::INFINITY;
+                for manifold in pair.manifolds() {
+                    for p in &manifold.points {
+                        if p.dist.is_finite() && p.dist < deepest {
+                            deepest = p.dist;
+                        }
+                    }
+                }
+                match per.iter_mut().find(|(x, _)| *x == m) {
+                    Some((_, d)) => *d = d.min(deepest),
+                    None => per.push((m, deepest)),
+                }
+            }
+        }
+        for &(m, deepest) in &per {
+            let Some(eid) = graph.edge_between(n, m) else {
+                continue;
+            };
+            let touching = graph
+                .edge(eid)
+                .is_some_and(|e| e.is_touching() && e.kind() == EdgeKind::Physical);
+            if touching {
+                let depth = if deepest.is_finite() {
+                    (-deepest).max(0.0)
+                } else {
+                    0.0
+                };
+                out.push((eid, depth));
+            }
+        }
+    }
+    out.sort_unstable_by_key(|(e, _)| *e);
+    out.dedup_by_key(|(e, _)| *e);
+}

@@ -387,11 +387,22 @@ impl Coherence {
                 self.retire(graph, view, eid);
             }
         }
-        // Under touching tracking physical edges follow Rapier's events alone, so the
-        // refreshed bodies' edges need a look only if some of them may be geometric
-        // (a trigger exists): without one, not even an edge lookup per awake body.
+        // Under touching tracking physical edges follow Rapier's events alone, so a
+        // refreshed body's edges need a look only if one of them is geometric (it is
+        // inside a trigger): an O(1) count per awake body, and none without a trigger.
         let look_at_walk = !scan && (touch.is_none() || sensors);
-        for &me in walk.iter().filter(|_| look_at_walk).chain(triggers.iter()) {
+        let from_walk = if look_at_walk { walk.len() } else { 0 };
+        for i in 0..from_walk + triggers.len() {
+            let me = if i < from_walk {
+                let me = walk[i];
+                let inside = graph.node(me).is_some_and(|n| n.geometric_edges > 0);
+                if touch.is_some() && !inside {
+                    continue;
+                }
+                me
+            } else {
+                triggers[i - from_walk]
+            };
             self.dead.clear();
             let Some(node) = graph.node(me) else { continue };
             for &eid in &node.edges {

@@ -516,9 +516,11 @@ impl ContactGraph {
         let (i, g) = self.edges.insert(Edge::new(lo, hi, kind, step));
         let id = EdgeId::from_raw_parts(i, g);
         self.pairs.insert(key, id);
+        let geometric = u32::from(kind == EdgeKind::Geometric);
         for n in [lo, hi] {
             if let Some(node) = self.node_mut(n) {
                 node.edges.push(id);
+                node.geometric_edges = node.geometric_edges.saturating_add(geometric);
             }
         }
         Some(id)
@@ -536,14 +538,39 @@ impl ContactGraph {
                 counted: edge.group_counted,
             });
         }
+        let geometric = u32::from(edge.kind == EdgeKind::Geometric);
         for n in [edge.a, edge.b] {
             if let Some(node) = self.node_mut(n) {
                 if let Some(pos) = node.edges.iter().position(|&e| e == id) {
                     node.edges.remove(pos);
                 }
+                node.geometric_edges = node.geometric_edges.saturating_sub(geometric);
             }
         }
         Some(edge)
+    }
+
+    /// Counts each node's geometric edges again from the edges (after a restore: the
+    /// counts are not in the bytes). O(nodes + edges).
+    pub(crate) fn recount_geometric(&mut self) {
+        let mut counts: Vec<(NodeId, u32)> = Vec::new();
+        for (_, e) in self.edges() {
+            if e.kind == EdgeKind::Geometric {
+                counts.push((e.a, 1));
+                counts.push((e.b, 1));
+            }
+        }
+        let ids: Vec<NodeId> = self.nodes().map(|(id, _)| id).collect();
+        for id in ids {
+            if let Some(n) = self.node_mut(id) {
+                n.geometric_edges = 0;
+            }
+        }
+        for (id, c) in counts {
+            if let Some(n) = self.node_mut(id) {
+                n.geometric_edges = n.geometric_edges.saturating_add(c);
+            }
+        }
     }
 
     /// A petgraph snapshot of the graph (feature `petgraph`): node weights are the

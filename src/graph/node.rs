@@ -185,6 +185,12 @@ pub struct Node {
     /// rebuilt on restore, see [`crate::Groups`]).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) group_slot: u32,
+    /// How many of its edges are geometric (trigger volumes): under touching tracking
+    /// only a body with one needs its edges looked at for one that vanished. Kept by
+    /// the graph's edge insertion and removal; rebuilt on restore
+    /// ([`crate::ContactGraph::recount_geometric`]).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) geometric_edges: u32,
 }
 
 impl Node {
@@ -207,6 +213,7 @@ impl Node {
             disabled_sig: 0,
             pre_flag_touch: false,
             group_slot: 0,
+            geometric_edges: 0,
         }
     }
 

@@ -48,6 +48,17 @@ impl ContactGraph {
                 .position(|k| *k == node.kind)
                 .unwrap_or(0)] += 1;
             adjacency_total += node.edges.len();
+            let geometric = node
+                .edges
+                .iter()
+                .filter(|&&e| self.edge(e).is_some_and(|e| e.kind == EdgeKind::Geometric))
+                .count();
+            if geometric != node.geometric_edges as usize {
+                return fail(format!(
+                    "node {id:?} counts {} geometric edges, has {geometric}",
+                    node.geometric_edges
+                ));
+            }
             for &eid in &node.edges {
                 let Some(e) = self.edge(eid) else {
                     return fail(format!("node {id:?} lists dead edge {eid:?}"));

@@ -17,7 +17,7 @@ use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::ColliderHandle;
 
 use super::{Ctx, MonitorConfig, Peaks, Violation, ViolationKind};
-use crate::coherence::details::read_details;
+use crate::coherence::details::touching_depths;
 use crate::graph::{EdgeId, EdgeKind, NodeId, NodeSource};
 use crate::WorldView;
 
@@ -113,37 +113,26 @@ impl Penetration {
             }
         }
         self.last_deepest = None;
-        let kept = layer.coherence().details_kept();
-        // Under touching tracking the touched edges are only those whose touching
-        // began or ended: the edges looked at are the refreshed bodies' touching
-        // ones, in edge order, with their depth read from Rapier.
-        let mut edges: Vec<EdgeId> = Vec::new();
-        if kept {
-            edges.extend_from_slice(layer.coherence().touched_edges());
+        // Under proximity tracking with the details kept, the touched edges (every
+        // edge of a refreshed body) and their caches; under touching tracking, whose
+        // touched edges are only those whose touching began or ended, the refreshed
+        // bodies' touching edges with their depths read from Rapier in one pass over
+        // each body's pairs.
+        let mut edges: Vec<(EdgeId, Real)> = Vec::new();
+        if layer.coherence().details_kept() {
+            for &eid in layer.coherence().touched_edges() {
+                let Some(e) = graph.edge(eid) else { continue };
+                if e.kind() != EdgeKind::Physical || !e.is_touching() {
+                    self.deep.remove(&eid);
+                    continue;
+                }
+                edges.push((eid, e.cache().max_penetration));
+            }
         } else {
-            for &n in layer.coherence().refreshed_nodes() {
-                if let Some(node) = graph.node(n) {
-                    edges.extend(node.edges().iter().copied());
-                }
-            }
-            edges.sort_unstable();
-            edges.dedup();
+            touching_depths(graph, ctx.view, layer.coherence().refreshed_nodes(), &mut edges);
         }
-        for eid in edges {
+        for (eid, depth) in edges {
             let Some(e) = graph.edge(eid) else { continue };
-            if e.kind() != EdgeKind::Physical || !e.is_touching() {
-                self.deep.remove(&eid);
-                continue;
-            }
-            let depth = if kept {
-                e.cache().max_penetration
-            } else {
-                let (a, b) = e.nodes();
-                match read_details(graph, ctx.view, a, b) {
-                    Some(c) => c.max_penetration,
-                    None => continue,
-                }
-            };
             let (a, b) = e.nodes();
             let (Some(na), Some(nb)) = (graph.node(a), graph.node(b)) else {
                 continue;
