@@ -118,8 +118,8 @@ impl SpeedUps {
     /// recycled and warm-started. Pair it with the monitor repairing
     /// ([`crate::ContactLayer::set_monitor`]) where held bodies may lose their support
     /// (a shelf moved away). Measured on the DIKU scene (120 spheres, 8 seeds, commit
-    /// 775102f, `cargo run --release -p rcg-lab -- diku`): 1.03× brute force's speed
-    /// (0.98× stock Rapier's; the speed-ups are noisy on the shared machine), accuracy
+    /// dcb6997, `cargo run --release -p rcg-lab -- diku`): 1.56× brute force's speed
+    /// (1.60× stock Rapier's; the speed-ups are noisy on the shared machine), accuracy
     /// 0.74 (inside the reference's own error on every observable, though not shown
     /// equivalent: undecided on several), no violation, resting penetration 0.13 mm
     /// against the reference's 3.77 mm.
@@ -137,9 +137,10 @@ impl SpeedUps {
 
     /// Preset: the paper's fastest configuration (Table 5's ♠, `C--ZDSF`): cache,
     /// zero, damp, subgroup and fixate. Changes motion: the damping slows rolling.
-    /// Measured on the DIKU scene (120 spheres, 8 seeds, commit 775102f, `cargo run
-    /// --release -p rcg-lab -- diku`): 1.10× brute force's speed (1.04× stock
-    /// Rapier's; 1.45× in another run of the same commit's job), accuracy 17.9, not
+    /// Measured on the DIKU scene (120 spheres, 8 seeds, commit dcb6997, `cargo run
+    /// --release -p rcg-lab -- diku`): 1.82× brute force's speed (1.87× stock
+    /// Rapier's; 1.10–1.45× at 775102f, when the speed-ups read every awake pair
+    /// each step), accuracy 17.9, not
     /// equivalent: fewer spheres at the rim, more in the grooves, a lower and shorter
     /// pile, slower rolling; one violation in 8 runs.
     pub fn papers_fastest() -> Self {
