@@ -272,7 +272,11 @@ fn main() {
         args.events,
         args.tracking,
         args.repeats,
-        if args.sensor { ", a sensor in the bin" } else { "" }
+        if args.sensor {
+            ", a sensor in the bin"
+        } else {
+            ""
+        }
     );
     println!(
         "| scene | N | tracking at end | layered / plain, whole run | layered / plain, settled \

@@ -33,10 +33,17 @@ const SCENES: [fn() -> Scene; 13] = [
 
 /// Per step: the poses and the violations found (kind, body, value bits); at the end
 /// the totals and the repairs, as text.
-fn run(scene: fn() -> Scene, bits: u8, mode: MonitorMode, tracking: Tracking) -> (Vec<String>, usize) {
+fn run(
+    scene: fn() -> Scene,
+    bits: u8,
+    mode: MonitorMode,
+    tracking: Tracking,
+) -> (Vec<String>, usize) {
     let mut scene = scene();
     let mut layer = ContactLayer::with_tracking(tracking);
-    layer.set_speedups(Some(SpeedUps::combination(bits))).unwrap();
+    layer
+        .set_speedups(Some(SpeedUps::combination(bits)))
+        .unwrap();
     layer
         .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
         .unwrap();
@@ -44,7 +51,12 @@ fn run(scene: fn() -> Scene, bits: u8, mode: MonitorMode, tracking: Tracking) ->
     let mut found = 0;
     for step in 0..400 {
         run_validated(&mut scene, &mut layer, step, 1);
-        assert_eq!(layer.coherence().tracking(), tracking, "{} step {step}", scene.name);
+        assert_eq!(
+            layer.coherence().tracking(),
+            tracking,
+            "{} step {step}",
+            scene.name
+        );
         let m = layer.monitor().unwrap();
         let violations: Vec<_> = m
             .monitor()
@@ -78,7 +90,10 @@ fn same_under_both(mode: MonitorMode) {
             found += n;
             let name = scene().name;
             for (step, (t, p)) in touching.iter().zip(&proximity).enumerate() {
-                assert_eq!(t, p, "{name}, combination {bits:07b}, {mode:?}: step {step}");
+                assert_eq!(
+                    t, p,
+                    "{name}, combination {bits:07b}, {mode:?}: step {step}"
+                );
             }
         }
     }

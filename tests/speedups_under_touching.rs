@@ -33,7 +33,14 @@ fn after(layer: &ContactLayer, world: &PhysicsWorld) -> After {
         .map(|(_, rb)| {
             let (v, w, a) = (rb.linvel(), rb.angvel(), rb.activation());
             [
-                v.x, v.y, v.z, w.x, w.y, w.z, a.time_since_can_sleep, a.angular_threshold,
+                v.x,
+                v.y,
+                v.z,
+                w.x,
+                w.y,
+                w.z,
+                a.time_since_can_sleep,
+                a.angular_threshold,
             ]
             .map(f32::to_bits)
         })

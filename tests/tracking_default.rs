@@ -187,7 +187,13 @@ fn a_persist_subscription_switches_to_proximity_until_it_goes_and_speedups_or_th
         )
         .unwrap();
     run(&mut layer, 0, 10, Tracking::Touching);
-    layer.set_monitor(MonitorMode::Off, MonitorConfig::default(), RepairConfig::default()).unwrap();
+    layer
+        .set_monitor(
+            MonitorMode::Off,
+            MonitorConfig::default(),
+            RepairConfig::default(),
+        )
+        .unwrap();
     layer.set_speedups(None).unwrap();
     run(&mut layer, 3, 10, Tracking::Touching);
 }

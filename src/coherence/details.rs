@@ -91,9 +91,9 @@ pub(crate) fn resting_supports(
                 continue;
             };
             let allowed = m != n
-                && graph.node(m).is_some_and(|o| {
-                    edge_allowed(EdgeKind::Physical, kind, o.kind())
-                });
+                && graph
+                    .node(m)
+                    .is_some_and(|o| edge_allowed(EdgeKind::Physical, kind, o.kind()));
             if !allowed {
                 continue;
             }

@@ -129,7 +129,12 @@ impl Penetration {
                 edges.push((eid, e.cache().max_penetration));
             }
         } else {
-            touching_depths(graph, ctx.view, layer.coherence().refreshed_nodes(), &mut edges);
+            touching_depths(
+                graph,
+                ctx.view,
+                layer.coherence().refreshed_nodes(),
+                &mut edges,
+            );
         }
         for (eid, depth) in edges {
             let Some(e) = graph.edge(eid) else { continue };
