@@ -552,6 +552,7 @@ impl ContactGraph {
 
     /// Counts each node's geometric edges again from the edges (after a restore: the
     /// counts are not in the bytes). O(nodes + edges).
+    #[cfg(feature = "serde")]
     pub(crate) fn recount_geometric(&mut self) {
         let mut counts: Vec<(NodeId, u32)> = Vec::new();
         for (_, e) in self.edges() {
