@@ -334,6 +334,15 @@ impl Groups {
             .map(|(i, g, grp)| (GroupId::new(i, g), grp))
     }
 
+    /// The awake groups (those not asleep), in id order (generation, then slot).
+    /// O(awake groups), however many groups sleep and however many slots the groups
+    /// have used.
+    pub fn iter_awake(&self) -> impl Iterator<Item = (GroupId, &Group)> + '_ {
+        self.awake
+            .iter()
+            .filter_map(|&id| self.get(id).map(|g| (id, g)))
+    }
+
     /// Number of live groups. O(1).
     pub fn len(&self) -> usize {
         self.arena.len()
