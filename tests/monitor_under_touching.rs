@@ -9,7 +9,7 @@ mod common;
 
 use common::{pose_bits, run_validated};
 use rapier_contact_graph::coherence::Tracking;
-use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+use rapier_contact_graph::monitor::MonitorMode;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes::stability::*;
@@ -44,9 +44,7 @@ fn run(
     layer
         .set_speedups(Some(SpeedUps::combination(bits)))
         .unwrap();
-    layer
-        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
-        .unwrap();
+    common::monitor_in(&mut layer, mode);
     let mut out = Vec::new();
     let mut found = 0;
     for step in 0..400 {

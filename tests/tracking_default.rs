@@ -9,7 +9,7 @@ mod common;
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
-use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+use rapier_contact_graph::monitor::MonitorMode;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error, WorldMut, WorldView};
 use rcg_scenes as scenes;
@@ -179,21 +179,9 @@ fn a_persist_subscription_switches_to_proximity_until_it_goes_and_speedups_or_th
     // concerned: touching tracking stays.
     layer.set_speedups(Some(SpeedUps::contact_graph())).unwrap();
     run(&mut layer, 0, 10, Tracking::Touching);
-    layer
-        .set_monitor(
-            MonitorMode::Repair,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Repair);
     run(&mut layer, 0, 10, Tracking::Touching);
-    layer
-        .set_monitor(
-            MonitorMode::Off,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Off);
     layer.set_speedups(None).unwrap();
     run(&mut layer, 3, 10, Tracking::Touching);
 }

@@ -130,3 +130,12 @@ pub fn format_events(events: &[rapier_contact_graph::Event], names: &Names) -> S
     }
     s
 }
+
+/// Switches the layer's monitor to `mode` with the default detector and repair
+/// settings (valid, so it cannot fail).
+pub fn monitor_in(layer: &mut ContactLayer, mode: rapier_contact_graph::monitor::MonitorMode) {
+    use rapier_contact_graph::monitor::{MonitorConfig, RepairConfig};
+    layer
+        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .expect("the default monitor settings are valid");
+}
