@@ -91,3 +91,24 @@ fn one_ulp_changes_the_trajectory_but_not_the_verdict_machinery() {
     assert!(nudged.result.deviation.is_finite());
     assert!(nudged.outcome.iter().all(|x| x.is_finite()));
 }
+
+#[test]
+fn a_configurations_own_floor_is_its_run_against_itself_nudged_by_one_ulp() {
+    // What `rcg-lab diku` prints as `floor (r)` (issue 11, item 4): the configuration's
+    // own solver against itself, one ulp apart at the start.
+    let radius = SETUP.params(7).radius;
+    for spec in [RunSpec::brute_force(), RunSpec::contact_graph()] {
+        let (_, own) = run_seed(SETUP, &spec, 7, Variant::AsBuilt, None).unwrap();
+        let (_, again) = run_seed(SETUP, &spec, 7, Variant::AsBuilt, None).unwrap();
+        let (_, nudged) = run_seed(SETUP, &spec, 7, Variant::UlpNudge, None).unwrap();
+        // Deterministic: the run again is the run, so the floor is the ulp's alone.
+        assert_eq!(
+            rcg_lab::measure::deviation(&again, &own, radius),
+            0.0,
+            "{}",
+            spec.name
+        );
+        let floor = rcg_lab::measure::deviation(&nudged, &own, radius);
+        assert!(floor.is_finite() && floor > 0.0, "{}: {floor}", spec.name);
+    }
+}

@@ -189,7 +189,7 @@ fn is_named(spec: &RunSpec) -> bool {
 }
 
 /// The columns of `results.csv` before the per-observable ones.
-pub const CSV_HEADER: [&str; 29] = [
+pub const CSV_HEADER: [&str; 30] = [
     "configuration",
     "kind",
     "cache",
@@ -208,6 +208,7 @@ pub const CSV_HEADER: [&str; 29] = [
     "differs",
     "not_judged",
     "deviation_radii",
+    "own_ulp_floor_radii",
     "violations",
     "hanging",
     "launch",
@@ -248,6 +249,10 @@ pub const RUNS_CSV_HEADER: [&str; 8] = [
 struct Row {
     spec: RunSpec,
     runs: Vec<SeedRun>,
+    /// The trajectory deviation's floor on the configuration's own solver: its run on
+    /// the first seed against the same run with every sphere moved by one ulp, in
+    /// radii (measured for the reference and the reported configurations).
+    own_floor: Option<f64>,
 }
 
 /// A row summed up against the reference.
@@ -392,7 +397,11 @@ pub fn run(args: &Args) -> Result<(), String> {
             runs.push(run_seed(setup, &spec, r.run.seed, variant, Some(r))?.0);
             bar.inc(1);
         }
-        refined.push(Row { spec, runs });
+        refined.push(Row {
+            spec,
+            runs,
+            own_floor: None,
+        });
     }
     let reference: Vec<Outcome> = refs.iter().map(|r| r.run.outcome).collect();
     let tol = tolerances(
@@ -419,6 +428,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut rows: Vec<Row> = vec![Row {
         spec: RunSpec::reference(),
         runs: refs.iter().map(|r| r.run.clone()).collect(),
+        own_floor: Some(ulp_floor),
     }];
     rows.append(&mut refined);
     for spec in &others {
@@ -427,6 +437,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         rows.push(Row {
             spec: (*spec).clone(),
             runs,
+            own_floor: None,
         });
     }
 
@@ -459,6 +470,24 @@ pub fn run(args: &Args) -> Result<(), String> {
             let spec = row.spec.clone();
             extend_runs(setup, &spec, &refs, &mut row.runs, k, &bar)?;
         }
+    }
+
+    // 4. The trajectory deviation's floor on each reported configuration's own solver
+    // (issue 11, item 4): the configuration on the first seed against itself with every
+    // sphere moved by one ulp. The reported ones are those on K seeds (only the named
+    // ones when every configuration runs on K seeds: two runs each).
+    let reported: Vec<usize> = (3..rows.len())
+        .filter(|&i| rows[i].runs.len() == k && (screen < k || is_named(&rows[i].spec)))
+        .collect();
+    bar.inc_length(2 * reported.len() as u64);
+    for i in reported {
+        let spec = rows[i].spec.clone();
+        bar.set_message(format!("{}, one ulp", spec.name));
+        let (_, own) = run_seed(setup, &spec, seeds[0], Variant::AsBuilt, None)?;
+        bar.inc(1);
+        let (_, nudged) = run_seed(setup, &spec, seeds[0], Variant::UlpNudge, None)?;
+        bar.inc(1);
+        rows[i].own_floor = Some(measure::deviation(&nudged, &own, radius));
     }
     bar.finish_and_clear();
 
@@ -555,8 +584,8 @@ fn print_tolerances(reference_rows: &[Row], reference: &[Outcome], tol: &[f64; C
 /// The printed table: one line per configuration.
 fn print_table(rows: &[Row], summaries: &[Summary], ulp_floor: f64, seed_floor: f64) {
     println!(
-        "\n{:<26} {:>2} {:>6} {:>6} {:>8} {:>5} {:>4} {:>7} {:>7} {:>7}  differs (sign: +/- higher/lower, ? undecided, ! not finite)",
-        "configuration", "K", "xbrute", "xstock", "accuracy", "equiv", "viol", "peak mm", "rest mm", "dev (r)"
+        "\n{:<26} {:>2} {:>6} {:>6} {:>8} {:>5} {:>4} {:>7} {:>7} {:>7} {:>9}  differs (sign: +/- higher/lower, ? undecided, ! not finite)",
+        "configuration", "K", "xbrute", "xstock", "accuracy", "equiv", "viol", "peak mm", "rest mm", "dev (r)", "floor (r)"
     );
     for (row, s) in rows.iter().zip(summaries) {
         let v = violations_of(row).total();
@@ -564,8 +593,11 @@ fn print_table(rows: &[Row], summaries: &[Summary], ulp_floor: f64, seed_floor: 
             Ok(j) => (if j.equivalent() { "yes" } else { "no" }, j.differs()),
             Err(e) => ("—", e.clone()),
         };
+        let floor = row
+            .own_floor
+            .map_or_else(|| "-".to_string(), |x| format!("{x:.2}"));
         println!(
-            "{:<26} {:>2} {:>6.2} {:>6.2} {:>8.2} {:>5} {:>4} {:>7.1} {:>7.2} {:>7.2}  {differs}",
+            "{:<26} {:>2} {:>6.2} {:>6.2} {:>8.2} {:>5} {:>4} {:>7.1} {:>7.2} {:>7.2} {floor:>9}  {differs}",
             row.spec.name,
             row.runs.len(),
             s.speedup_brute,
@@ -593,7 +625,9 @@ fn print_table(rows: &[Row], summaries: &[Summary], ulp_floor: f64, seed_floor: 
     println!(
         "\ndev (r): the old trajectory deviation against the same-seed reference (mean over \
          the seeds), beside its floors: the reference against itself with every sphere moved \
-         by one ulp {ulp_floor:.2} r, against another seed {seed_floor:.2} r."
+         by one ulp {ulp_floor:.2} r, against another seed {seed_floor:.2} r. floor (r): the \
+         configuration against itself with every sphere moved by one ulp (first seed), the \
+         chaos floor of its own solver; a dev (r) within it says nothing."
     );
 }
 
@@ -686,6 +720,7 @@ fn write_results(
             differs,
             reasons,
             f(mean(runs.iter().map(|r| r.result.deviation))),
+            row.own_floor.map(f).unwrap_or_default(),
             v.total().to_string(),
             v.hanging.to_string(),
             v.launch.to_string(),

@@ -134,7 +134,7 @@ mod tests {
         // The DIKU run's columns changed with the accuracy measure (issue 11).
         assert_eq!(
             diku::CSV_HEADER.join(","),
-            "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,seeds,time_s,speedup_brute,speedup_stock,accuracy,equivalent,differs,not_judged,deviation_radii,violations,hanging,launch,penetration,escape,peak_penetration_mm,resting_penetration_mm,mean_groups,mean_awake,last_second_s,left_plane"
+            "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,seeds,time_s,speedup_brute,speedup_stock,accuracy,equivalent,differs,not_judged,deviation_radii,own_ulp_floor_radii,violations,hanging,launch,penetration,escape,peak_penetration_mm,resting_penetration_mm,mean_groups,mean_awake,last_second_s,left_plane"
         );
         let per_observable = diku::observable_columns();
         assert_eq!(
