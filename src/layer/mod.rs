@@ -153,9 +153,11 @@ impl Default for ContactLayer {
 
 impl ContactLayer {
     /// A layer with an empty graph and the given tracking ([`Self::set_tracking`]):
-    /// `ContactLayer::with_tracking(Tracking::Proximity)` for a layer read by a
-    /// standalone [`Monitor`](crate::monitor::Monitor) or by the graph's detail queries,
-    /// which need every pair's details each step. O(1).
+    /// `ContactLayer::with_tracking(Tracking::Proximity)` for a layer read by the
+    /// graph's node-based detail queries, which read every pair's details copied each
+    /// step (the by-handle queries, the speed-ups and a
+    /// [`Monitor`](crate::monitor::Monitor) read Rapier instead, under either
+    /// tracking). O(1).
     pub fn with_tracking(tracking: crate::coherence::Tracking) -> Self {
         let mut layer = Self::new();
         layer.set_tracking(tracking);
