@@ -58,13 +58,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
     }
 
     // Rapier pairs against physical edges.
-    let owner = |c| {
-        let col = view.colliders.get(c)?;
-        match col.parent() {
-            Some(b) => graph.node_of_body(b),
-            None => graph.node_of_static_collider(c),
-        }
-    };
+    let owner = |c| crate::graph::mirror::collider_owner(graph, view, c);
     let screen = crate::coherence::Screen {
         rules: layer.rule_table(),
         force: &[],

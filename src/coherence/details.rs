@@ -54,47 +54,31 @@ pub(crate) fn read_details(
     any.then_some(cache)
 }
 
-/// The nodes whose contact with `n` holds it up against gravity now, read from
-/// Rapier's narrow phase whatever the tracking: the test of the graph's
-/// `ContactGraph::resting_supports_of` (a contact that touches or lies within `gap`,
-/// whose impulses' resultant, or else its deepest normal, pushes `n` along `up` by
-/// more than `min_cos`), on every collider pair of `n`'s colliders with a node a
-/// physical edge may join (Table 2: not two fixed nodes; not a sensor). Under
-/// proximity tracking with the details kept it gives what the edges' caches give;
-/// under touching tracking, which keeps no details and no edge for a pair within the
-/// gap that does not touch, it is the only way to the answer. In node order, without
-/// repeats. O(the contact pairs of `n`'s colliders).
-pub(crate) fn resting_supports(
+/// Accumulates `n`'s collider pairs into one contact per neighbour node, as the
+/// per-edge caches do ([`super::pairs::accumulate_pair`]), each oriented as if `n`
+/// were the edge's *B* (the normal points from the neighbour into `n`, the push is
+/// what the neighbour does to `n`). Neighbours for which `skip` says so, and `n`
+/// itself, are left out. `per` is cleared first; `mine` is scratch. False if `n` has
+/// no colliders in the world. O(the contact pairs of `n`'s colliders).
+fn per_neighbour(
     graph: &ContactGraph,
     view: &WorldView,
     n: NodeId,
-    up: Vector,
-    min_cos: Real,
-    gap: Real,
-    out: &mut Vec<NodeId>,
-) {
-    out.clear();
-    let Some(kind) = graph.node(n).map(|node| node.kind()) else {
-        return;
-    };
-    let mut mine: Vec<ColliderHandle> = Vec::new();
-    if !super::colliders_of(graph, view, n, &mut mine) {
-        return;
+    skip: impl Fn(NodeId) -> bool,
+    mine: &mut Vec<ColliderHandle>,
+    per: &mut Vec<(NodeId, ContactCache)>,
+) -> bool {
+    per.clear();
+    if !super::colliders_of(graph, view, n, mine) {
+        return false;
     }
-    // Per neighbour, the details oriented as if `n` were the edge's B: the normal
-    // points from the neighbour into `n`, the push is what it does to `n`.
-    let mut per: Vec<(NodeId, ContactCache)> = Vec::new();
-    for &c in &mine {
+    for &c in mine.iter() {
         for pair in view.narrow_phase.contact_pairs_with(c) {
             let other = super::pairs::other_collider(pair, c);
-            let Some(m) = owner_node(graph, view, other) else {
+            let Some(m) = nodes::collider_owner(graph, view, other) else {
                 continue;
             };
-            let allowed = m != n
-                && graph
-                    .node(m)
-                    .is_some_and(|o| edge_allowed(EdgeKind::Physical, kind, o.kind()));
-            if !allowed {
+            if m == n || skip(m) {
                 continue;
             }
             let at = match per.iter().position(|(x, _)| *x == m) {
@@ -110,43 +94,51 @@ pub(crate) fn resting_supports(
             super::pairs::accumulate_pair(&mut per[at].1, pair, pair.collider1 == c, true);
         }
     }
-    for (m, cache) in &per {
-        let close = cache.touching || cache.min_distance <= gap;
-        if !close {
-            continue;
-        }
-        let dir = if cache.push != Vector::ZERO {
-            cache.push.normalize()
-        } else {
-            cache.normal
-        };
-        if dir.dot(up) > min_cos {
-            out.push(*m);
-        }
-    }
-    out.sort_unstable();
+    true
 }
 
-/// The node a collider belongs to in the graph, without creating one: its parent
-/// body's, or its own as static geometry. `None` for a sensor or an unknown collider.
-/// O(1).
-fn owner_node(graph: &ContactGraph, view: &WorldView, c: ColliderHandle) -> Option<NodeId> {
-    let co = view.colliders.get(c)?;
-    if co.is_sensor() {
-        return None;
-    }
-    match co.parent() {
-        Some(parent) => graph.node_of_body(parent),
-        None => graph.node_of_static_collider(c),
-    }
+/// The nodes whose contact with `n` holds it up against gravity now, read from
+/// Rapier's narrow phase whatever the tracking: the graph's support test
+/// (`ContactCache::holds_up`, as `ContactGraph::resting_supports_of` applies it to the
+/// cached edges) on every collider pair of `n`'s colliders with a node a physical
+/// edge may join (Table 2: not two fixed nodes; not a sensor). Under proximity
+/// tracking with the details kept it gives what the edges' caches give; under
+/// touching tracking, which keeps no details and no edge for a pair within the gap
+/// that does not touch, it is the only way to the answer. In node order, without
+/// repeats. O(the contact pairs of `n`'s colliders).
+pub(crate) fn resting_supports(
+    graph: &ContactGraph,
+    view: &WorldView,
+    n: NodeId,
+    up: Vector,
+    min_cos: Real,
+    gap: Real,
+    out: &mut Vec<NodeId>,
+) {
+    out.clear();
+    let Some(kind) = graph.node(n).map(|node| node.kind()) else {
+        return;
+    };
+    let disallowed = |m: NodeId| {
+        graph
+            .node(m)
+            .is_none_or(|o| !edge_allowed(EdgeKind::Physical, kind, o.kind()))
+    };
+    let mut per = Vec::new();
+    per_neighbour(graph, view, n, disallowed, &mut Vec::new(), &mut per);
+    out.extend(
+        per.iter()
+            .filter(|(_, cache)| cache.holds_up(true, up, min_cos, gap))
+            .map(|(m, _)| *m),
+    );
+    out.sort_unstable();
 }
 
 /// The deepest penetration of each touching edge of the nodes in `nodes`, read from
 /// Rapier's narrow phase in one pass over each node's collider pairs: what the
 /// per-edge caches hold as `ContactCache::max_penetration` under proximity tracking
-/// (the largest `-distance` over every contact point of every collider pair of the
-/// edge, at least 0), for touching tracking, which copies none. An edge between two
-/// of the nodes is read once, from its smaller node. Appended to `out` as
+/// (the same accumulation), for touching tracking, which copies none. An edge between
+/// two of the nodes is read once, from its smaller node. Appended to `out` as
 /// `(edge, depth)` in edge order, each edge once. O(the nodes' contact pairs).
 pub(crate) fn touching_depths(
     graph: &ContactGraph,
@@ -157,59 +149,28 @@ pub(crate) fn touching_depths(
     let mut sorted: Vec<NodeId> = nodes.to_vec();
     sorted.sort_unstable();
     sorted.dedup();
+    let touching_physical =
+        |e: &crate::graph::Edge| e.is_touching() && e.kind() == EdgeKind::Physical;
     let mut mine: Vec<ColliderHandle> = Vec::new();
-    // Per neighbour of the node at hand: the smallest distance over its pairs.
-    let mut per: Vec<(NodeId, Real)> = Vec::new();
+    let mut per: Vec<(NodeId, ContactCache)> = Vec::new();
     for &n in &sorted {
         let Some(node) = graph.node(n) else { continue };
         // Only nodes with a touching edge have anything to read.
-        let any = node.edges().iter().any(|&e| {
-            graph
-                .edge(e)
-                .is_some_and(|e| e.is_touching() && e.kind() == EdgeKind::Physical)
-        });
-        if !any || !super::colliders_of(graph, view, n, &mut mine) {
+        let any = node
+            .edges()
+            .iter()
+            .any(|&e| graph.edge(e).is_some_and(touching_physical));
+        // A pair with another listed node is read from the smaller one.
+        let listed_before = |m: NodeId| m < n && sorted.binary_search(&m).is_ok();
+        if !any || !per_neighbour(graph, view, n, listed_before, &mut mine, &mut per) {
             continue;
         }
-        per.clear();
-        for &c in &mine {
-            for pair in view.narrow_phase.contact_pairs_with(c) {
-                let other = super::pairs::other_collider(pair, c);
-                let Some(m) = owner_node(graph, view, other) else {
-                    continue;
-                };
-                // A pair with another listed node is read from the smaller one.
-                if m == n || (m < n && sorted.binary_search(&m).is_ok()) {
-                    continue;
-                }
-                let mut deepest = Real::INFINITY;
-                for manifold in pair.manifolds() {
-                    for p in &manifold.points {
-                        if p.dist.is_finite() && p.dist < deepest {
-                            deepest = p.dist;
-                        }
-                    }
-                }
-                match per.iter_mut().find(|(x, _)| *x == m) {
-                    Some((_, d)) => *d = d.min(deepest),
-                    None => per.push((m, deepest)),
-                }
-            }
-        }
-        for &(m, deepest) in &per {
-            let Some(eid) = graph.edge_between(n, m) else {
+        for (m, cache) in &per {
+            let Some(eid) = graph.edge_between(n, *m) else {
                 continue;
             };
-            let touching = graph
-                .edge(eid)
-                .is_some_and(|e| e.is_touching() && e.kind() == EdgeKind::Physical);
-            if touching {
-                let depth = if deepest.is_finite() {
-                    (-deepest).max(0.0)
-                } else {
-                    0.0
-                };
-                out.push((eid, depth));
+            if graph.edge(eid).is_some_and(touching_physical) {
+                out.push((eid, cache.max_penetration));
             }
         }
     }

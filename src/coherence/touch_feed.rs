@@ -37,12 +37,12 @@ use super::*;
 /// the pairs once):
 /// - it is asked for ([`ContactLayer::set_tracking`](crate::ContactLayer::set_tracking));
 /// - no subscription asks for proximity or persist events (the events module's
-///   `KindSet::NEEDS_EVERY_PAIR`), and the monitor does not run (it reads every
-///   pair's penetration each step). The speed-ups run under either tracking: what
-///   they read besides the touching edges (what holds a body up when it is fixated
-///   or its support is judged) they read from Rapier's narrow phase for the bodies
-///   concerned, the same figures under both, so that they decide the same and the
-///   world is the same bit for bit (`tests/speedups_under_touching.rs`);
+///   `KindSet::NEEDS_EVERY_PAIR`). The speed-ups and the monitor run under either
+///   tracking: what they read besides the touching edges (what holds a body up, the
+///   awake bodies' contact depths) they read from Rapier's narrow phase for the
+///   bodies concerned, the same figures under both, so that they decide and judge the
+///   same and the world is the same bit for bit (`tests/speedups_under_touching.rs`,
+///   `tests/monitor_under_touching.rs`);
 /// - **the layer's event handler reaches Rapier's step.**
 ///   [`ContactLayer::step`](crate::ContactLayer::step) passes it itself. A user who
 ///   steps Rapier by hand passes

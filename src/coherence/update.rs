@@ -354,8 +354,7 @@ impl Coherence {
             self.walk_trigger(graph, view, screen, t);
         }
         self.read_changed_triggers(graph, view, screen);
-        let sensors = graph.count_of_kind(NodeKind::Sensor) > 0;
-        if sensors {
+        if graph.count_of_kind(NodeKind::Sensor) > 0 {
             for &me in walk.iter().chain(&created_now).chain(&parked) {
                 self.walk_body_sensors(graph, view, screen, me);
             }
@@ -389,38 +388,17 @@ impl Coherence {
         }
         // Under touching tracking physical edges follow Rapier's events alone, so a
         // refreshed body's edges need a look only if one of them is geometric (it is
-        // inside a trigger): an O(1) count per awake body, and none without a trigger.
-        let look_at_walk = !scan && (touch.is_none() || sensors);
-        let from_walk = if look_at_walk { walk.len() } else { 0 };
-        for i in 0..from_walk + triggers.len() {
-            let me = if i < from_walk {
-                let me = walk[i];
-                let inside = graph.node(me).is_some_and(|n| n.geometric_edges > 0);
-                if touch.is_some() && !inside {
-                    continue;
-                }
-                me
-            } else {
-                triggers[i - from_walk]
-            };
-            self.dead.clear();
-            let Some(node) = graph.node(me) else { continue };
-            for &eid in &node.edges {
-                let Some(e) = graph.edge(eid) else { continue };
-                // In touching tracking, physical edges follow Rapier's events alone.
-                let dynamic = match e.kind {
-                    EdgeKind::Physical => touch.is_none(),
-                    EdgeKind::Geometric => true,
-                    _ => false,
-                };
-                if dynamic && e.walk_stamp != step {
-                    self.dead.push(eid);
+        // inside a trigger): an O(1) count per awake body, none without a trigger.
+        let physical = touch.is_none();
+        if !scan {
+            for &me in &walk {
+                if physical || graph.node(me).is_some_and(|n| n.geometric_edges > 0) {
+                    self.retire_unreached(graph, view, me, physical);
                 }
             }
-            for i in 0..self.dead.len() {
-                let eid = self.dead[i];
-                self.retire(graph, view, eid);
-            }
+        }
+        for &me in &triggers {
+            self.retire_unreached(graph, view, me, physical);
         }
         self.triggers = triggers;
 
@@ -455,6 +433,36 @@ impl Coherence {
         // removed in the same step, so the list needs no sorting or filtering: its
         // order is Rapier's pair order, then the vanished edges, which is deterministic.
         debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
+    }
+
+    /// Retires the edges of `me` that no pair reached this step: its geometric edges,
+    /// and with `physical` (proximity tracking) its physical ones too.
+    /// O(its degree).
+    fn retire_unreached(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        me: NodeId,
+        physical: bool,
+    ) {
+        let step = self.step;
+        self.dead.clear();
+        let Some(node) = graph.node(me) else { return };
+        for &eid in &node.edges {
+            let Some(e) = graph.edge(eid) else { continue };
+            let dynamic = match e.kind {
+                EdgeKind::Physical => physical,
+                EdgeKind::Geometric => true,
+                _ => false,
+            };
+            if dynamic && e.walk_stamp != step {
+                self.dead.push(eid);
+            }
+        }
+        for i in 0..self.dead.len() {
+            let eid = self.dead[i];
+            self.retire(graph, view, eid);
+        }
     }
 
     /// Refreshes one node whatever its state, if not done this step: a body's pairs are

@@ -125,6 +125,25 @@ impl ContactCache {
         3 * self.contact_count
     }
 
+    /// Whether this contact holds its *B* end (with `b` false, its *A* end) up along
+    /// `up`: it touches or lies within `gap`, and the resultant of its impulses where
+    /// there is one (a body in a corner rests on the floor, though a wall may be
+    /// deeper), else its deepest normal, pushes that end by more than `min_cos` along
+    /// `up`. The one support test of the graph's cached edges and of the contacts read
+    /// from Rapier on demand. O(1).
+    pub(crate) fn holds_up(&self, b: bool, up: Vector, min_cos: Real, gap: Real) -> bool {
+        if !(self.touching || self.min_distance <= gap) {
+            return false;
+        }
+        let dir = if self.push != Vector::ZERO {
+            self.push.normalize()
+        } else {
+            self.normal
+        };
+        let push = if b { dir } else { -dir };
+        push.dot(up) > min_cos
+    }
+
     /// Shifts the current state into `*_old` and clears the per-update aggregates,
     /// keeping the relative pose for the change test. Without `details` the detail
     /// fields keep their values (they are not maintained).

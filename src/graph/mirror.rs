@@ -115,6 +115,22 @@ pub(crate) fn owns(view: &WorldView, collider: ColliderHandle, source: NodeSourc
     }
 }
 
+/// The node standing for the body (or static geometry) of a collider, if the graph has
+/// it: what [`ensure_collider_owner`] finds, without creating one. `None` for a
+/// parentless sensor or an unknown collider. O(1).
+pub(crate) fn collider_owner(
+    graph: &ContactGraph,
+    view: &WorldView,
+    collider: ColliderHandle,
+) -> Option<NodeId> {
+    let c = view.colliders.get(collider)?;
+    match c.parent() {
+        Some(parent) => graph.node_of_body(parent),
+        None if !c.is_sensor() => graph.node_of_static_collider(collider),
+        None => None,
+    }
+}
+
 /// Finds or creates the node standing for the body (or static geometry) of a collider.
 pub(crate) fn ensure_collider_owner(
     graph: &mut ContactGraph,

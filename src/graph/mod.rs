@@ -370,20 +370,8 @@ impl ContactGraph {
         gap: Real,
     ) -> impl Iterator<Item = NodeId> + '_ {
         self.neighbors(n).filter_map(move |(m, _, e)| {
-            let close = e.cache.touching || e.cache.min_distance <= gap;
-            if e.kind != EdgeKind::Physical || !close {
-                return None;
-            }
-            // The resultant of the contact's impulses where there is one (a body in a
-            // corner rests on the floor, though a wall may be deeper), else the
-            // deepest contact's normal.
-            let dir = if e.cache.push != Vector::ZERO {
-                e.cache.push.normalize()
-            } else {
-                e.cache.normal
-            };
-            let push = if e.b == n { dir } else { -dir };
-            (push.dot(up) > min_cos).then_some(m)
+            let held = e.kind == EdgeKind::Physical && e.cache.holds_up(e.b == n, up, min_cos, gap);
+            held.then_some(m)
         })
     }
 
@@ -554,22 +542,17 @@ impl ContactGraph {
     /// counts are not in the bytes). O(nodes + edges).
     #[cfg(feature = "serde")]
     pub(crate) fn recount_geometric(&mut self) {
-        let mut counts: Vec<(NodeId, u32)> = Vec::new();
-        for (_, e) in self.edges() {
-            if e.kind == EdgeKind::Geometric {
-                counts.push((e.a, 1));
-                counts.push((e.b, 1));
-            }
+        for n in self.nodes.values_mut() {
+            n.geometric_edges = 0;
         }
-        let ids: Vec<NodeId> = self.nodes().map(|(id, _)| id).collect();
-        for id in ids {
-            if let Some(n) = self.node_mut(id) {
-                n.geometric_edges = 0;
+        for (_, _, e) in self.edges.iter() {
+            if e.kind != EdgeKind::Geometric {
+                continue;
             }
-        }
-        for (id, c) in counts {
-            if let Some(n) = self.node_mut(id) {
-                n.geometric_edges = n.geometric_edges.saturating_add(c);
+            for id in [e.a, e.b] {
+                if let Some(n) = self.nodes.get_mut(id.index(), id.generation()) {
+                    n.geometric_edges = n.geometric_edges.saturating_add(1);
+                }
             }
         }
     }

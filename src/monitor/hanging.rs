@@ -14,11 +14,11 @@
 //! supported when it fell asleep, and its contacts are frozen until Rapier wakes it —
 //! which it does when something touching it is removed — so it needs no look.
 //!
-//! Support is judged by the contact normals and the contacts within [`SUPPORT_GAP`]:
-//! from the edges' caches under proximity tracking with the contact details kept, and
-//! otherwise (touching tracking, the default, keeps neither) from Rapier's narrow
-//! phase for the body looked at, by the same test on the same pairs. Only held bodies
-//! are judged, so the reading costs O(their contact pairs).
+//! Support is judged by the contact normals and the contacts within [`SUPPORT_GAP`],
+//! read from Rapier's narrow phase for the body looked at whatever the tracking (the
+//! graph's cached test on the same pairs; touching tracking, the default, caches
+//! neither). Only held bodies are judged, so the reading costs O(their contact
+//! pairs).
 
 use std::collections::HashMap;
 
@@ -271,27 +271,20 @@ impl Hanging {
             {
                 return true;
             }
-            // The edges' caches under proximity tracking with the details kept;
-            // otherwise (touching tracking keeps neither normals nor the contacts
-            // within the gap that do not touch) the same test on Rapier's pairs.
-            if ctx.layer.coherence().details_kept() {
-                graph
-                    .resting_supports_of(n, up, config.min_support_cos, SUPPORT_GAP)
-                    .next()
-                    .is_some()
-            } else {
-                let mut found = Vec::new();
-                resting_supports(
-                    graph,
-                    ctx.view,
-                    n,
-                    up,
-                    config.min_support_cos,
-                    SUPPORT_GAP,
-                    &mut found,
-                );
-                !found.is_empty()
-            }
+            // Read from Rapier whatever the tracking (touching tracking keeps neither
+            // normals nor the contacts within the gap that do not touch), as the
+            // speed-ups' support memory reads it.
+            let mut found = Vec::new();
+            resting_supports(
+                graph,
+                ctx.view,
+                n,
+                up,
+                config.min_support_cos,
+                SUPPORT_GAP,
+                &mut found,
+            );
+            !found.is_empty()
         };
         if !is_held || supported() {
             self.timed.remove(&h);

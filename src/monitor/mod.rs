@@ -8,8 +8,7 @@
 //!   the graph's own query ([`crate::ContactGraph::supports_of`]): a touching physical
 //!   edge whose normal, as it pushes the body, has more than
 //!   [`MonitorConfig::min_support_cos`] of its length along `-gravity` (or a contact
-//!   within the support gap that pushes so), read from the edges' caches under
-//!   proximity tracking and from Rapier's narrow phase under touching tracking. A
+//!   within the support gap that pushes so), read from Rapier's narrow phase. A
 //!   body resting on a fixed slope is supported; a body
 //!   left in the air when what it rested on rolled away or was removed is not. The
 //!   normals of sleeping pairs are frozen in Rapier (and in the graph's caches), so
@@ -252,11 +251,10 @@ pub struct Peaks {
 
 /// The plausibility monitor: call [`Monitor::check`] once after each step's analysis.
 ///
-/// A standalone monitor reads the layer's contact details where it needs them
-/// (normals and the contacts within the support gap for a held body's support, depths
-/// for the touching contacts of the awake bodies): from the edges' caches under
-/// proximity tracking with the details kept, otherwise from Rapier's narrow phase,
-/// with the same figures. It judges the same under either tracking, the default
+/// A standalone monitor reads the contact details where it needs them: a held body's
+/// support from Rapier's narrow phase, the awake bodies' contact depths from the
+/// edges' caches under proximity tracking with the details kept and otherwise from
+/// Rapier, with the same figures. It judges the same under either tracking, the default
 /// included. The layer's own monitor
 /// ([`ContactLayer::set_monitor`](crate::ContactLayer::set_monitor)) does the same.
 ///
