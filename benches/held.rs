@@ -3,7 +3,8 @@
 //! against stock Rapier on the same piles, stepped in lockstep.
 //!
 //! For each scene two identical worlds are built and stepped alternately (stock first
-//! on even steps, the layer first on odd ones), each step timed in thread CPU time:
+//! on even steps, the layer first on odd ones), each step timed in thread CPU time
+//! (in the settled phase, batches of `--batch` steps, alternating likewise):
 //! - *stock*: `world.step()`, Rapier's own sleep;
 //! - *held*: `ContactLayer::step` with `SpeedUps { cache, subgroup, fixate,
 //!   ..contact_graph() }` (the paper's sleepy objects, subgroups and fixation).
@@ -21,6 +22,8 @@
 //! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
 //! cargo bench --bench held -- --scene boxes --repeats 5
 //! cargo bench --bench held -- --monitor           # with the repair monitor
+//! RCG_HELD_ALONE=held cargo bench --bench held -- --scene boxes --steps 200000
+//!                                                  # one settled world alone, for `perf`
 //! ```
 
 use clap::Parser;
@@ -44,6 +47,9 @@ struct Args {
     /// Steps at the end counted as the settled phase.
     #[arg(long, default_value_t = 200)]
     tail: usize,
+    /// Settled steps timed together (see `run`).
+    #[arg(long, default_value_t = 10)]
+    batch: usize,
     /// Runs per scene (min / median / max are printed).
     #[arg(long, default_value_t = 3)]
     repeats: usize,
@@ -125,40 +131,70 @@ fn run(scene: &str, args: &Args) -> Run {
         parked_end: 0,
         violations: 0,
     };
-    let step_stock = |w: &mut PhysicsWorld| {
-        let t = ThreadTime::now();
-        w.step();
-        t.elapsed().as_secs_f64()
-    };
-    for i in 0..args.steps {
-        let step_held = |w: &mut PhysicsWorld, l: &mut ContactLayer| {
-            let t = ThreadTime::now();
-            let s = l.step(w);
-            (t.elapsed().as_secs_f64(), s.violations)
-        };
-        let (ts, (th, v)) = if i % 2 == 0 {
-            let ts = step_stock(&mut stock);
-            (ts, step_held(&mut held, &mut layer))
+    // Falling and settling: each step timed, stock first on even steps. The settled
+    // tail: batches of `--batch` steps timed as one (a settled step costs about a
+    // microsecond, of the order of two reads of the thread CPU clock, which would
+    // otherwise weigh on both worlds alike and pull the ratio towards 1), stock first
+    // on even batches; each step of a batch is counted at the batch's mean.
+    let settled_from = args.steps - args.tail;
+    let mut i = 0;
+    let mut batch_index = 0usize;
+    let mut awake_s = Vec::new();
+    let mut awake_h = Vec::new();
+    while i < args.steps {
+        let b = if i >= settled_from {
+            args.batch.max(1).min(args.steps - i)
         } else {
-            let th = step_held(&mut held, &mut layer);
-            (step_stock(&mut stock), th)
+            1
         };
-        r.stock.push(ts);
-        r.held.push(th);
-        r.violations += v;
-        // Still: not integrated by Rapier (asleep, or held by the layer).
-        let awake = [
-            stock.islands.num_active_bodies(),
-            layer.stats().awake_bodies,
-        ];
-        r.limit
-            .push((awake[0] > 0).then(|| ts * awake[1] as f64 / awake[0] as f64));
-        for (k, awake) in awake.into_iter().enumerate() {
-            if 20 * n.saturating_sub(awake) >= 19 * n {
-                r.still_from[k].get_or_insert(i);
-            } else {
-                r.still_from[k] = None;
+        let stock_first = if b == 1 {
+            i % 2 == 0
+        } else {
+            batch_index % 2 == 0
+        };
+        batch_index += usize::from(b > 1);
+        awake_s.clear();
+        awake_h.clear();
+        let mut v = 0;
+        let time_stock = |w: &mut PhysicsWorld, awake: &mut Vec<usize>| {
+            let t = ThreadTime::now();
+            for _ in 0..b {
+                w.step();
+                awake.push(w.islands.num_active_bodies());
             }
+            t.elapsed().as_secs_f64() / b as f64
+        };
+        let mut time_held = |w: &mut PhysicsWorld, l: &mut ContactLayer, awake: &mut Vec<usize>| {
+            let t = ThreadTime::now();
+            for _ in 0..b {
+                let s = l.step(w);
+                v += s.violations;
+                awake.push(s.awake_bodies);
+            }
+            t.elapsed().as_secs_f64() / b as f64
+        };
+        let (ts, th) = if stock_first {
+            let ts = time_stock(&mut stock, &mut awake_s);
+            (ts, time_held(&mut held, &mut layer, &mut awake_h))
+        } else {
+            let th = time_held(&mut held, &mut layer, &mut awake_h);
+            (time_stock(&mut stock, &mut awake_s), th)
+        };
+        r.violations += v;
+        for (&a_s, &a_h) in awake_s.iter().zip(&awake_h) {
+            r.stock.push(ts);
+            r.held.push(th);
+            // Still: not integrated by Rapier (asleep, or held by the layer).
+            r.limit
+                .push((a_s > 0).then(|| ts * a_h as f64 / a_s as f64));
+            for (k, awake) in [a_s, a_h].into_iter().enumerate() {
+                if 20 * n.saturating_sub(awake) >= 19 * n {
+                    r.still_from[k].get_or_insert(i);
+                } else {
+                    r.still_from[k] = None;
+                }
+            }
+            i += 1;
         }
     }
     r.awake_end = [
@@ -194,6 +230,12 @@ fn main() {
         args.tail > 0 && args.tail <= args.steps,
         "--tail must be in 1..=steps"
     );
+    // Diagnostics: one world alone, settled, stepped `--steps` times (`RCG_HELD_ALONE=stock`
+    // or `held`), its mean thread CPU time per step; for profiles.
+    if let Ok(which) = std::env::var("RCG_HELD_ALONE") {
+        alone(&chosen[0], &which, &args);
+        return;
+    }
     println!(
         "held: sleep + subgroup + fixate + warm start{} vs stock Rapier, {} steps, settled = last {}, thread CPU time, {} repeats",
         if args.monitor { " + repair monitor" } else { "" },
@@ -260,4 +302,28 @@ fn main() {
             r.awake_end[0], r.awake_end[1], r.fixated_end, r.parked_end, r.violations
         );
     }
+}
+
+/// One settled world alone (see `main`).
+fn alone(scene: &str, which: &str, args: &Args) {
+    let mut w = build(scene).expect("scene");
+    let mut layer = ContactLayer::new();
+    layer.set_speedups(Some(config())).expect("valid speed-ups");
+    let mut step = |w: &mut PhysicsWorld| match which {
+        "stock" => w.step(),
+        _ => {
+            layer.step(w);
+        }
+    };
+    for _ in 0..1000 {
+        step(&mut w);
+    }
+    let t = ThreadTime::now();
+    for _ in 0..args.steps {
+        step(&mut w);
+    }
+    println!(
+        "{scene} {which} alone: {:.3} µs/step",
+        t.elapsed().as_secs_f64() * 1e6 / args.steps as f64
+    );
 }

@@ -104,7 +104,8 @@ fn step_with_non_finite_state_and_foreign_worlds() {
 
 #[test]
 // Fixed: a replaced slot evicts its old node at once; other such changes are found by
-// the round-robin verification within `nodes / VERIFY_PER_STEP` steps (here, one).
+// the round-robin verification within `slots / verify_budget()` steps (here, one:
+// a world this small is checked whole every step).
 fn bug_step_remove_and_insert_leaves_ghost_node() {
     // Fixed body removed, another body inserted: the counts do not change, so no full
     // scan runs, and the fixed body was never awake, so nothing refreshes it.

@@ -37,7 +37,7 @@
 //! Following the docs, the harness calls `request_full_sync()` after changing a
 //! *sleeping, fixed or passive* body in place (type change, moving a fixed body or a
 //! parentless collider), and after an insertion and a removal between the same two
-//! steps (`audit`, B1: otherwise found within `nodes / VERIFY_PER_STEP` steps only).
+//! steps (`audit`, B1: otherwise found within `slots / verify_budget()` steps only).
 //! It keeps no invariant of its own: it reads the world and the layer after each step.
 //!
 //! # Known bugs the generator steers clear of

@@ -1,6 +1,8 @@
 //! Held (fixated) bodies leave Rapier's active set: a settled pile under fixation is
 //! as quiet in Rapier as a sleeping one, holds its pose bit for bit, reports fixation
 //! and release as sleep and wake, and is restored exactly on release and on detach.
+//! Its idle steps (nothing awake, nothing changed) change nothing, and what the user
+//! changes meanwhile is still seen.
 
 mod common;
 
@@ -178,4 +180,106 @@ fn a_held_body_with_a_joint_stays_in_the_active_set() {
     assert!(s.is_fixated(a) && s.is_fixated(b));
     assert_eq!(s.stats().parked, 0);
     assert!(world.bodies[a].is_enabled() && world.bodies[b].is_enabled());
+}
+
+/// Settles a held pile until every box is held and parked; returns the next step.
+fn settle_parked(scene: &mut scenes::Scene, layer: &mut ContactLayer, n: usize) -> u64 {
+    let mut step = 0;
+    while layer.speedups().unwrap().stats().parked < n {
+        common::step_validated(scene, layer, step);
+        step += 1;
+        assert!(step < 600, "the pile was held and parked");
+    }
+    // Two more steps: the last parking's follow-up is done.
+    common::run_validated(scene, layer, step, 2);
+    step + 2
+}
+
+/// The graph's nodes (kind, awake, group, degree) and edge count.
+fn graph_state(layer: &ContactLayer) -> String {
+    let g = layer.graph();
+    let nodes: Vec<String> = g
+        .nodes()
+        .map(|(id, n)| {
+            format!(
+                "{id:?} {:?} {} {:?} {}",
+                n.kind(),
+                n.is_awake(),
+                n.group(),
+                n.degree()
+            )
+        })
+        .collect();
+    format!("{} edges; {}", g.edge_count(), nodes.join(", "))
+}
+
+#[test]
+fn idle_steps_of_a_held_pile_change_nothing() {
+    // Nothing awake, nothing changed: the analysis of each step finds nothing to do
+    // (the layer's idle path), and the graph, groups, poses and events stay as they
+    // are, step after step.
+    let mut scene = scenes::box_pile(60, 3);
+    let mut layer = held_layer();
+    let step = settle_parked(&mut scene, &mut layer, 60);
+    let rx = layer.subscribe(Filter::kinds(KindSet::ALL));
+    let graph = graph_state(&layer);
+    let groups = layer.groups().stats();
+    let poses = common::pose_bits(&scene.world);
+    let stats = common::run_validated(&mut scene, &mut layer, step, 200);
+    assert_eq!(stats.awake_bodies, 0);
+    assert_eq!(stats.walk.bodies, 0, "no body refreshed");
+    assert_eq!(rx.try_iter().count(), 0, "no event");
+    assert_eq!(graph_state(&layer), graph);
+    assert_eq!(layer.groups().stats(), groups);
+    assert_eq!(common::pose_bits(&scene.world), poses);
+}
+
+#[test]
+fn the_ground_moved_in_place_under_an_idle_held_pile_is_seen() {
+    // The user moves the ground (a fixed body: no contact of it is computed with the
+    // held boxes, which are fixed too) while every box is held and parked: the next
+    // step finds the boxes on it unsupported.
+    let mut scene = scenes::box_pile(20, 3);
+    let ground = scene.body("ground").unwrap();
+    let mut layer = held_layer();
+    let step = settle_parked(&mut scene, &mut layer, 20);
+    let s = layer.speedups().unwrap();
+    assert_eq!(s.unsupported_fixated().count(), 0, "held on the ground");
+    let rb = &mut scene.world.bodies[ground];
+    let down = rb.translation() - Vector::new(0.0, 1.0, 0.0);
+    rb.set_translation(down, true);
+    common::step_validated(&mut scene, &mut layer, step);
+    let s = layer.speedups().unwrap();
+    assert!(
+        s.unsupported_fixated().count() > 0,
+        "the boxes that rested on the ground are unsupported now"
+    );
+}
+
+#[test]
+fn a_body_inserted_beside_an_idle_held_pile_is_analysed_at_once() {
+    let mut scene = scenes::box_pile(20, 3);
+    let mut layer = held_layer();
+    let step = settle_parked(&mut scene, &mut layer, 20);
+    let rx = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])));
+    let (ball, _) = scene.world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 8.0, 0.0)),
+        ColliderBuilder::ball(0.2),
+    );
+    common::step_validated(&mut scene, &mut layer, step);
+    assert!(layer.node_of_body(ball).is_ok(), "its node at once");
+    assert!(layer.stats().awake_bodies >= 1);
+    let ball_node = layer.node_of_body(ball).unwrap();
+    let mut landed = false;
+    for k in 1..300 {
+        common::step_validated(&mut scene, &mut layer, step + k);
+        if rx
+            .try_iter()
+            .any(|e| e.node1 == ball_node || e.node2 == Some(ball_node))
+        {
+            landed = true;
+            break;
+        }
+    }
+    assert!(landed, "its landing is a contact event");
 }

@@ -19,6 +19,21 @@ impl Coherence {
         self.integrated
     }
 
+    /// Slots of each kind (graph nodes, Rapier body slots, Rapier collider slots, and
+    /// colliders' `COLLISION_EVENTS` flags under touching tracking) the round-robin
+    /// verification checks in the next step: one per
+    /// [`AWAKE_BODIES_PER_VERIFIED_SLOT`] bodies Rapier integrated in the last step,
+    /// between [`VERIFY_IDLE_PER_STEP`] and [`VERIFY_PER_STEP`]; a kind with at most
+    /// [`VERIFY_PER_STEP`] slots is checked whole every step. The check's cost so
+    /// follows Rapier's own (a large sleeping or held scene pays for two slots of each
+    /// kind per step, a scene of 512 awake bodies or more for 32), and so does the
+    /// time it takes to find a change no Rapier list tells (see
+    /// [`crate::ContactLayer::request_full_sync`]): `slots / budget` steps. O(1).
+    pub fn verify_budget(&self) -> usize {
+        (self.integrated / AWAKE_BODIES_PER_VERIFIED_SLOT)
+            .clamp(VERIFY_IDLE_PER_STEP, VERIFY_PER_STEP)
+    }
+
     /// The index of the last analysed step (0 before the first).
     pub fn step(&self) -> u64 {
         self.step

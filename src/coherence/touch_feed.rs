@@ -79,7 +79,8 @@ use super::*;
 ///
 /// # The flags it sets, and the user's events
 /// The layer adds `ActiveEvents::COLLISION_EVENTS` to every collider that lacks it
-/// (all of them when the collider count changes, 32 slots round robin otherwise) and
+/// (all of them when the collider count changes, a few slots round robin otherwise:
+/// [`Coherence::verify_budget`]) and
 /// remembers which; it takes the flag off those again when touching tracking ends and
 /// when the layer is detached. A collider that it finds unflagged has its touching
 /// pairs read at once, so a collider inserted while another was removed loses no
@@ -320,10 +321,11 @@ impl Coherence {
 
     /// Sets or takes off the layer's `COLLISION_EVENTS` flags, before Rapier's step:
     /// with `on`, every collider lacking the flag gets it (all colliders when their
-    /// count changed or tracking just started, 32 slots round robin otherwise); without,
+    /// count changed or tracking just started, [`Self::verify_budget`] slots round robin
+    /// otherwise); without,
     /// the flags the layer set are taken off again. A collider found unflagged is
     /// remembered: its touching pairs are read at the next update. O(colliders) on a
-    /// change, O(32) otherwise.
+    /// change, O(verify_budget) otherwise.
     pub(crate) fn sync_touch_flags(&mut self, colliders: &mut ColliderSet, on: bool) {
         if !on {
             for (_, c) in std::mem::take(&mut self.touch_flagged) {
@@ -335,6 +337,7 @@ impl Coherence {
             self.touch_flag_colliders = usize::MAX;
             return;
         }
+        let budget = self.verify_budget();
         let flagged = &mut self.touch_flagged;
         let rescan = &mut self.touch_rescan;
         // Read first: `ColliderSet::get_mut` marks a collider modified for Rapier's
@@ -359,14 +362,14 @@ impl Coherence {
             // Forget colliders that are gone.
             self.touch_flagged.retain(|_, c| colliders.contains(*c));
         } else {
-            let span = colliders.len() as u32 + VERIFY_PER_STEP as u32;
-            let slots: Vec<u32> =
-                round_robin(&mut self.touch_flag_cursor, span, VERIFY_PER_STEP).collect();
-            for i in slots {
+            let span = colliders.len() as u32 + budget as u32;
+            let mut cursor = self.touch_flag_cursor;
+            for i in round_robin(&mut cursor, span, budget) {
                 if let Some((_, h)) = colliders.get_unknown_gen(i) {
                     flag(h, colliders);
                 }
             }
+            self.touch_flag_cursor = cursor;
         }
     }
 

@@ -10,20 +10,22 @@ use crate::WorldView;
 use super::*;
 
 impl Coherence {
-    /// Checks a few nodes and Rapier body slots per step, round robin: a node whose
-    /// object is gone is removed, a body whose type changed in place gets its kind,
-    /// and a body without node gets one. It makes the graph consistent, within
-    /// `nodes / VERIFY_PER_STEP` steps, after changes the per-step upkeep cannot see
-    /// (removing and inserting bodies between two steps, retyping a sleeping body),
-    /// without a full scan. O(VERIFY_PER_STEP).
+    /// Checks a few nodes and Rapier body and collider slots per step, round robin: a
+    /// node whose object is gone is removed, a body whose type changed in place gets
+    /// its kind, and a body without node gets one. It makes the graph consistent,
+    /// within `slots / verify_budget()` steps, after changes the per-step upkeep cannot
+    /// see (removing and inserting bodies between two steps, retyping a sleeping body),
+    /// without a full scan. O([`Self::verify_budget`]): the budget follows the awake
+    /// bodies, so that a sleeping or held scene pays almost nothing for it.
     pub(super) fn verify_some(
         &mut self,
         graph: &mut ContactGraph,
         groups: &mut Groups,
         view: &WorldView,
     ) {
+        let budget = self.verify_budget();
         let slots = graph.nodes.slot_count() as u32;
-        for i in round_robin(&mut self.verify_cursor, slots, VERIFY_PER_STEP) {
+        for i in round_robin(&mut self.verify_cursor, slots, budget) {
             let Some(id) = graph.node_id_at(i) else {
                 continue;
             };
@@ -38,9 +40,8 @@ impl Coherence {
         }
         // Rapier's arenas may hold free slots beyond `len()`: cover the highest slot the
         // graph has seen too.
-        let body_slots =
-            view.bodies.len().max(graph.body_slot_span()) as u32 + VERIFY_PER_STEP as u32;
-        for i in round_robin(&mut self.verify_body_cursor, body_slots, VERIFY_PER_STEP) {
+        let body_slots = view.bodies.len().max(graph.body_slot_span()) as u32 + budget as u32;
+        for i in round_robin(&mut self.verify_body_cursor, body_slots, budget) {
             if let Some((_, h)) = view.bodies.get_unknown_gen(i) {
                 if graph.node_of_body(h).is_none() {
                     nodes::ensure_body_node(graph, view, h, &mut self.created);
@@ -48,12 +49,8 @@ impl Coherence {
             }
         }
         let collider_slots =
-            view.colliders.len().max(graph.collider_slot_span()) as u32 + VERIFY_PER_STEP as u32;
-        for i in round_robin(
-            &mut self.verify_collider_cursor,
-            collider_slots,
-            VERIFY_PER_STEP,
-        ) {
+            view.colliders.len().max(graph.collider_slot_span()) as u32 + budget as u32;
+        for i in round_robin(&mut self.verify_collider_cursor, collider_slots, budget) {
             if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
                 // A cached owner that no longer owns the collider (moved in place
                 // while nothing that would notice was refreshed): read both again.
@@ -198,6 +195,16 @@ impl Coherence {
             self.known_colliders = view.colliders.len();
         }
         self.verify_some(graph, groups, view);
+        if self.idle_step(graph, view, screen, touch, switched || requested, &resized) {
+            // Nothing awake now or at the last update, no transition, nothing asked
+            // for, created or removed, no trigger: the full update would read nothing
+            // and change nothing (its walk, `awake_prev` and counts are empty, as
+            // they are already). Only the kind changes' drops are taken.
+            self.walk.clear();
+            self.integrated = 0;
+            self.take_dropped(graph, groups);
+            return;
+        }
         self.walk.clear();
         self.integrated = 0;
         for h in view.islands.active_bodies() {
@@ -433,6 +440,36 @@ impl Coherence {
         // removed in the same step, so the list needs no sorting or filtering: its
         // order is Rapier's pair order, then the vanished edges, which is deterministic.
         debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
+    }
+
+    /// Whether this step is idle for the analysis (see [`Self::update`]): Rapier's
+    /// active set is empty and was at the last update, no touch began or ended, no
+    /// node is asked for, stale, new or removed, no held body is parked or unparked in
+    /// this step, and the scene has no trigger (whose sensor colliders are compared
+    /// with their last state each step). O(1).
+    fn idle_step(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        touch: Option<&[TouchEvent]>,
+        resync: bool,
+        resized: &[NodeId],
+    ) -> bool {
+        !resync
+            && resized.is_empty()
+            && touch.is_none_or(|t| t.is_empty())
+            && view.islands.num_active_bodies() == 0
+            && self.awake_prev.is_empty()
+            && screen.force.is_empty()
+            && self.stale.is_empty()
+            && self.touch_rescan.is_empty()
+            && self.created.is_empty()
+            && self.removed_nodes.is_empty()
+            && self.parking.is_empty()
+            && self.parked_now.is_empty()
+            && self.trigger_states.is_empty()
+            && graph.count_of_kind(NodeKind::Sensor) == 0
     }
 
     /// Retires the edges of `me` that no pair reached this step: its geometric edges,

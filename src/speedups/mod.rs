@@ -276,6 +276,15 @@ pub struct SpeedUpState {
     restored: bool,
 }
 
+/// The unit vector against gravity (zero without gravity).
+fn up_of(g: Vector) -> Vector {
+    if g.length() > 0.0 {
+        -g / g.length()
+    } else {
+        Vector::ZERO
+    }
+}
+
 fn key(h: RigidBodyHandle) -> (u32, u32) {
     h.into_raw_parts()
 }
@@ -850,11 +859,14 @@ impl SpeedUpState {
         if self.detached {
             return;
         }
-        let c = self.config.clone();
         self.sleepy_changed.clear();
         self.stats.sleepy = 0;
         self.stats.fixations = 0;
         self.stats.releases = 0;
+        if refreshed.is_empty() && woke.is_empty() {
+            return;
+        }
+        let c = self.config.clone();
         for &(n, awake) in woke {
             if awake {
                 if let Some(h) = graph.body_of(n) {
@@ -923,6 +935,20 @@ impl SpeedUpState {
         if self.detached {
             return;
         }
+        // An idle step (nothing refreshed, touched or removed, no awake group): no
+        // eligibility and no fixation or release to decide; what the support memory
+        // depends on (gravity, static supporters' poses) is looked at as always.
+        if refreshed.is_empty()
+            && touched.is_empty()
+            && removed.is_empty()
+            && !nodes_removed
+            && groups.iter_awake().next().is_none()
+        {
+            if self.config.fixate {
+                self.decide_support(graph, view, touched, removed, nodes_removed, step);
+            }
+            return;
+        }
         let c = self.config.clone();
         let mut want: Vec<(RigidBodyHandle, bool)> = Vec::new();
         if c.sleepy {
@@ -967,12 +993,7 @@ impl SpeedUpState {
         }
 
         if c.fixate {
-            let g = view.gravity;
-            let up = if g.length() > 0.0 {
-                -g / g.length()
-            } else {
-                Vector::ZERO
-            };
+            let up = up_of(view.gravity);
             // Release: a fast, non-sleepy body touching a held one.
             for &n in refreshed {
                 let Some(node) = graph.node(n) else { continue };
@@ -1037,16 +1058,31 @@ impl SpeedUpState {
                     self.stats.fixations = self.stats.fixations.saturating_add(1);
                 }
             }
-            // Everything again when something it depends on changed; otherwise only
-            // the newly held bodies, unless one of them is unsupported.
-            if self.support_changed(graph, view, up, touched, removed, nodes_removed, step)
-                || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
-            {
-                self.evaluate_support(graph, view, up);
-            }
-            self.newly_held.clear();
-            self.choose_parking(view);
+            self.decide_support(graph, view, touched, removed, nodes_removed, step);
         }
+    }
+
+    /// The support memory after the decisions (see [`Self::fixation_supported`]):
+    /// everything judged again when something it depends on changed, otherwise only
+    /// the newly held bodies, unless one of them is unsupported; then the held bodies
+    /// to park are chosen.
+    fn decide_support(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        touched: &[crate::graph::EdgeId],
+        removed: &[crate::graph::Edge],
+        nodes_removed: bool,
+        step: u64,
+    ) {
+        let up = up_of(view.gravity);
+        if self.support_changed(graph, view, up, touched, removed, nodes_removed, step)
+            || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
+        {
+            self.evaluate_support(graph, view, up);
+        }
+        self.newly_held.clear();
+        self.choose_parking(view);
     }
 
     /// Judges the bodies held since the last evaluation alone, when nothing else

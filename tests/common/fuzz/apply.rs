@@ -99,7 +99,7 @@ impl Harness {
         let (bodies, colliders) = (self.world.bodies.len(), self.world.colliders.len());
         self.apply_op(op)?;
         // Both an insertion and a removal since the last step: the layer finds the
-        // change within `nodes / VERIFY_PER_STEP` steps only, or at once after
+        // change within `slots / verify_budget()` steps only, or at once after
         // `request_full_sync()` (documented in `audit`, B1): request it, as a user
         // who wants `validate()` to hold after every step.
         let grew = self.world.bodies.len() > bodies || self.world.colliders.len() > colliders;
