@@ -135,6 +135,7 @@ impl Coherence {
     /// Runs the analysis of one step. `step` must grow by one per call. `screen`
     /// carries the logical test of Fig. 4 (rules) and the nodes the logic layer wants
     /// refreshed even if asleep (rule members, bodies made passive or active).
+    /// An idle step ([`Self::idle_step`]) stops after the verification.
     pub(crate) fn update(
         &mut self,
         graph: &mut ContactGraph,

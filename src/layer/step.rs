@@ -19,7 +19,10 @@ impl ContactLayer {
     /// touching tracking O(awake bodies + touch events)), plus the groups' changes
     /// (O(smaller group) per merge, a bounded local search per ended touch, O(members)
     /// of a rebuilt group), plus O(bodies + colliders) on a step where their count
-    /// changed.
+    /// changed, plus the round-robin verification's few slots
+    /// ([`crate::coherence::Coherence::verify_budget`]). An idle step (nothing awake, no
+    /// change: see the `coherence` module docs) costs O(1) beyond that and the watches
+    /// no Rapier list replaces (held bodies' static supporters, joints).
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
         // This step hands Rapier the layer's event handler: touching tracking may
         // start with it (see `Tracking`).
