@@ -106,10 +106,9 @@ struct Run {
     violations: usize,
 }
 
-fn run(scene: &str, args: &Args) -> Run {
-    let mut stock = build(scene).expect("scene");
-    let mut held = build(scene).expect("scene");
-    let n = dynamic_bodies(&stock);
+/// The held world's layer: the speed-ups of [`config`], and the repair monitor with
+/// `--monitor`.
+fn held_layer(args: &Args) -> ContactLayer {
     let mut layer = ContactLayer::new();
     layer.set_speedups(Some(config())).expect("valid speed-ups");
     if args.monitor {
@@ -121,6 +120,14 @@ fn run(scene: &str, args: &Args) -> Run {
             )
             .expect("valid monitor");
     }
+    layer
+}
+
+fn run(scene: &str, args: &Args) -> Run {
+    let mut stock = build(scene).expect("scene");
+    let mut held = build(scene).expect("scene");
+    let n = dynamic_bodies(&stock);
+    let mut layer = held_layer(args);
     let mut r = Run {
         stock: Vec::with_capacity(args.steps),
         held: Vec::with_capacity(args.steps),
@@ -131,14 +138,14 @@ fn run(scene: &str, args: &Args) -> Run {
         parked_end: 0,
         violations: 0,
     };
-    // Falling and settling: each step timed, stock first on even steps. The settled
-    // tail: batches of `--batch` steps timed as one (a settled step costs about a
-    // microsecond, of the order of two reads of the thread CPU clock, which would
-    // otherwise weigh on both worlds alike and pull the ratio towards 1), stock first
-    // on even batches; each step of a batch is counted at the batch's mean.
+    // Falling and settling: each step timed. The settled tail: batches of `--batch`
+    // steps timed as one (a settled step costs about a microsecond, of the order of
+    // two reads of the thread CPU clock, which would otherwise weigh on both worlds
+    // alike and pull the ratio towards 1); each step of a batch is counted at the
+    // batch's mean. Stock first on even timed units (steps, then batches).
     let settled_from = args.steps - args.tail;
     let mut i = 0;
-    let mut batch_index = 0usize;
+    let mut unit = 0usize;
     let mut awake_s = Vec::new();
     let mut awake_h = Vec::new();
     while i < args.steps {
@@ -147,12 +154,8 @@ fn run(scene: &str, args: &Args) -> Run {
         } else {
             1
         };
-        let stock_first = if b == 1 {
-            i % 2 == 0
-        } else {
-            batch_index % 2 == 0
-        };
-        batch_index += usize::from(b > 1);
+        let stock_first = unit % 2 == 0;
+        unit += 1;
         awake_s.clear();
         awake_h.clear();
         let mut v = 0;
@@ -307,8 +310,7 @@ fn main() {
 /// One settled world alone (see `main`).
 fn alone(scene: &str, which: &str, args: &Args) {
     let mut w = build(scene).expect("scene");
-    let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(config())).expect("valid speed-ups");
+    let mut layer = held_layer(args);
     let mut step = |w: &mut PhysicsWorld| match which {
         "stock" => w.step(),
         _ => {

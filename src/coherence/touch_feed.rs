@@ -363,13 +363,11 @@ impl Coherence {
             self.touch_flagged.retain(|_, c| colliders.contains(*c));
         } else {
             let span = colliders.len() as u32 + budget as u32;
-            let mut cursor = self.touch_flag_cursor;
-            for i in round_robin(&mut cursor, span, budget) {
+            for i in round_robin(&mut self.touch_flag_cursor, span, budget) {
                 if let Some((_, h)) = colliders.get_unknown_gen(i) {
                     flag(h, colliders);
                 }
             }
-            self.touch_flag_cursor = cursor;
         }
     }
 

@@ -196,18 +196,16 @@ impl Coherence {
             self.known_colliders = view.colliders.len();
         }
         self.verify_some(graph, groups, view);
+        self.walk.clear();
+        self.integrated = 0;
         if self.idle_step(graph, view, screen, touch, switched || requested, &resized) {
             // Nothing awake now or at the last update, no transition, nothing asked
             // for, created or removed, no trigger: the full update would read nothing
             // and change nothing (its walk, `awake_prev` and counts are empty, as
             // they are already). Only the kind changes' drops are taken.
-            self.walk.clear();
-            self.integrated = 0;
             self.take_dropped(graph, groups);
             return;
         }
-        self.walk.clear();
-        self.integrated = 0;
         for h in view.islands.active_bodies() {
             let fixed = view.bodies.get(h).is_some_and(|b| b.is_fixed());
             if !fixed {

@@ -945,7 +945,8 @@ impl SpeedUpState {
             && groups.iter_awake().next().is_none()
         {
             if self.config.fixate {
-                self.decide_support(graph, view, touched, removed, nodes_removed, step);
+                let up = up_of(view.gravity);
+                self.decide_support(graph, view, up, touched, removed, nodes_removed, step);
             }
             return;
         }
@@ -1058,24 +1059,25 @@ impl SpeedUpState {
                     self.stats.fixations = self.stats.fixations.saturating_add(1);
                 }
             }
-            self.decide_support(graph, view, touched, removed, nodes_removed, step);
+            self.decide_support(graph, view, up, touched, removed, nodes_removed, step);
         }
     }
 
-    /// The support memory after the decisions (see [`Self::fixation_supported`]):
-    /// everything judged again when something it depends on changed, otherwise only
+    /// The support memory after the decisions (see [`Self::fixation_supported`]), with
+    /// `up` against gravity ([`up_of`]): everything judged again when something it depends on changed, otherwise only
     /// the newly held bodies, unless one of them is unsupported; then the held bodies
     /// to park are chosen.
+    #[allow(clippy::too_many_arguments)]
     fn decide_support(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
+        up: Vector,
         touched: &[crate::graph::EdgeId],
         removed: &[crate::graph::Edge],
         nodes_removed: bool,
         step: u64,
     ) {
-        let up = up_of(view.gravity);
         if self.support_changed(graph, view, up, touched, removed, nodes_removed, step)
             || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
         {
