@@ -1064,9 +1064,10 @@ impl SpeedUpState {
     }
 
     /// The support memory after the decisions (see [`Self::fixation_supported`]), with
-    /// `up` against gravity ([`up_of`]): everything judged again when something it depends on changed, otherwise only
-    /// the newly held bodies, unless one of them is unsupported; then the held bodies
-    /// to park are chosen.
+    /// `up` against gravity ([`up_of`]): everything judged again when something it
+    /// depends on changed ([`Self::support_changed`], whose arguments it passes on),
+    /// otherwise only the newly held bodies, unless one of them is unsupported; then
+    /// the held bodies to park are chosen.
     #[allow(clippy::too_many_arguments)]
     fn decide_support(
         &mut self,
