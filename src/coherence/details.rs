@@ -19,7 +19,9 @@ use crate::WorldView;
 /// The details of the contact between `a` and `b` as Rapier's narrow phase holds
 /// them now, oriented like their edge (the normal points from the edge's *A*, the
 /// node with the smaller slot, to *B*). `None` if Rapier has no contact pair between
-/// their colliders, or a node is gone. O(the contact pairs of `a`'s colliders).
+/// their colliders, or a node is gone. O(the contact pairs of the colliders of the
+/// node with fewer colliders × the other's collider count): a ball against a bin of
+/// five walls reads the ball's dozen pairs, not the bin's hundreds, and no collider.
 pub(crate) fn read_details(
     graph: &ContactGraph,
     view: &WorldView,
@@ -31,27 +33,70 @@ pub(crate) fn read_details(
     } else {
         (b, a)
     };
-    let second_source = graph.node(second)?.source();
-    let mut mine: Vec<ColliderHandle> = Vec::new();
-    if !super::colliders_of(graph, view, first, &mut mine) {
-        return None;
-    }
+    let (first_colliders, second_colliders) = (
+        NodeColliders::of(graph, view, first)?,
+        NodeColliders::of(graph, view, second)?,
+    );
+    let (first_colliders, second_colliders) =
+        (first_colliders.as_slice(), second_colliders.as_slice());
+    // Walk the pairs of the side with fewer colliders; a pair is the two nodes' when
+    // its other collider is one of the other side's.
+    let walk_first = first_colliders.len() <= second_colliders.len();
+    let (walked, others) = if walk_first {
+        (first_colliders, second_colliders)
+    } else {
+        (second_colliders, first_colliders)
+    };
     let mut cache = ContactCache::default();
     cache.begin_update(true);
     let mut any = false;
-    for &c in &mine {
+    for &c in walked {
         for pair in view.narrow_phase.contact_pairs_with(c) {
             let other = super::pairs::other_collider(pair, c);
-            if !nodes::owns(view, other, second_source) {
+            if !others.contains(&other) {
                 continue;
             }
             any = true;
             // Rapier's normal points from `collider1` to `collider2`: flip it when
             // `collider1` is the second node's.
-            super::pairs::accumulate_pair(&mut cache, pair, pair.collider1 == other, true);
+            let second_is_1 = if walk_first {
+                pair.collider1 == other
+            } else {
+                pair.collider1 == c
+            };
+            super::pairs::accumulate_pair(&mut cache, pair, second_is_1, true);
         }
     }
     any.then_some(cache)
+}
+
+/// The colliders a node stands for: its body's, or its own as static geometry.
+enum NodeColliders<'a> {
+    Body(&'a [ColliderHandle]),
+    Static(ColliderHandle),
+}
+
+impl<'a> NodeColliders<'a> {
+    /// `None` if the node, its body or its static collider is gone (a static
+    /// geometry node whose collider got a parent or turned into a sensor stands for
+    /// nothing). O(1).
+    fn of(graph: &ContactGraph, view: &'a WorldView, n: NodeId) -> Option<Self> {
+        match graph.node(n)?.source() {
+            crate::NodeSource::Body(h) => Some(Self::Body(view.bodies.get(h)?.colliders())),
+            crate::NodeSource::StaticCollider(c) => {
+                nodes::owns(view, c, crate::NodeSource::StaticCollider(c))
+                    .then_some(Self::Static(c))
+            }
+            _ => None,
+        }
+    }
+
+    fn as_slice(&self) -> &[ColliderHandle] {
+        match self {
+            Self::Body(s) => s,
+            Self::Static(c) => std::slice::from_ref(c),
+        }
+    }
 }
 
 /// Accumulates `n`'s collider pairs into one contact per neighbour node, as the

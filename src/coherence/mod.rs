@@ -162,6 +162,10 @@ pub struct Coherence {
     awake_prev: Vec<NodeId>,
     /// This step's refreshed nodes (awake now, or awake at the last update).
     walk: Vec<NodeId>,
+    /// Scratch: the sensor colliders of the bodies in `walk` with their nodes, in walk
+    /// order, found when they joined it (their body is then at hand).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    walk_sensors: Vec<(NodeId, ColliderHandle)>,
     touched: Vec<EdgeId>,
     removed_edges: Vec<Edge>,
     removed_nodes: Vec<RemovedNode>,

@@ -197,6 +197,7 @@ impl Coherence {
         }
         self.verify_some(graph, groups, view);
         self.walk.clear();
+        self.walk_sensors.clear();
         self.integrated = 0;
         if self.idle_step(graph, view, screen, touch, switched || requested, &resized) {
             // Nothing awake now or at the last update, no transition, nothing asked
@@ -324,7 +325,18 @@ impl Coherence {
         // refreshed bodies' colliders are always looked at, so that a collider turned
         // into a sensor gets its trigger in the same step: O(their colliders).
         self.triggers.clear();
-        let mut sensors = Vec::new();
+        // The walk's sensor colliders were noted as their bodies joined it
+        // (`mark_refreshed`).
+        let mut sensors: Vec<ColliderHandle> = self
+            .walk_sensors
+            .drain(..)
+            .filter(|&(me, _)| {
+                graph
+                    .node(me)
+                    .is_some_and(|n| matches!(n.source, NodeSource::Body(_)))
+            })
+            .map(|(_, c)| c)
+            .collect();
         // Held bodies just parked are not refreshed (their frozen contacts stay), but
         // Rapier paired their colliders anew in this step: their sensor pairs are read.
         let parked: Vec<NodeId> = self
@@ -333,14 +345,10 @@ impl Coherence {
             .filter_map(|&h| graph.node_of_body(h))
             .filter(|&n| graph.node(n).is_some_and(|n| n.seen_step != step))
             .collect();
-        for &me in walk.iter().chain(&parked) {
+        for &me in &parked {
             if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
                 if let Some(rb) = view.bodies.get(h) {
-                    for &c in rb.colliders() {
-                        if view.colliders.get(c).is_some_and(|c| c.is_sensor()) {
-                            sensors.push(c);
-                        }
-                    }
+                    sensors_of(view, rb, &mut sensors);
                 }
             }
         }
@@ -611,6 +619,10 @@ impl Coherence {
                     Some(_) => n.reported_awake = Some(n.awake),
                 }
             }
+            if let Some(rb) = rb {
+                let sensors = rb.colliders().iter().filter(|&&c| is_sensor(view, c));
+                self.walk_sensors.extend(sensors.map(|&c| (id, c)));
+            }
             self.walk.push(id);
         }
     }
@@ -763,4 +775,19 @@ impl Coherence {
         *self.world_mark = mark;
         same
     }
+}
+
+/// Appends the body's sensor colliders to `out`: the look that gives a collider turned
+/// into a sensor in place its trigger in the same step. O(the body's colliders).
+fn sensors_of(view: &WorldView, rb: &rapier3d::prelude::RigidBody, out: &mut Vec<ColliderHandle>) {
+    out.extend(
+        rb.colliders()
+            .iter()
+            .copied()
+            .filter(|&c| is_sensor(view, c)),
+    );
+}
+
+fn is_sensor(view: &WorldView, c: ColliderHandle) -> bool {
+    view.colliders.get(c).is_some_and(|c| c.is_sensor())
 }
