@@ -80,13 +80,22 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let step = m.step;
     let body = |n: NodeId| m.body(n);
     let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Sensor);
-    let mut push = |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64| {
+    // `live`: the edge of an edge event when it is in the graph (the pair's only edge):
+    // its details are read from it, without looking the pair up.
+    let mut push = |kind: EventKind,
+                    a: NodeId,
+                    b: Option<NodeId>,
+                    tick: u64,
+                    live: Option<&Edge>| {
         if wanted.contains(kind) {
             let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
             e.collider1 = m.collider(a);
             e.collider2 = b.and_then(|b| m.collider(b));
             if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) = (kind, b) {
-                (e.normal, e.impulse) = m.contact(a, b);
+                (e.normal, e.impulse) = match live {
+                    Some(edge) if m.details => (edge.cache().normal, edge.cache().normal_impulse),
+                    _ => m.contact(a, b),
+                };
             }
             out.push(e);
         }
@@ -95,13 +104,13 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
 
     // 1. Ends of edges removed with a node (or made passive, or left a trigger).
     for e in m.removed_edges {
-        edge_events(e, step, false, &is_trigger, &mut push);
+        edge_events(e, false, step, false, &is_trigger, &mut push);
     }
     // 2. Edge events in refresh order.
     for &id in m.touched {
         if let Some(e) = m.graph.edge(id) {
             let persist = awake(e.a()) || awake(e.b());
-            edge_events(e, step, persist, &is_trigger, &mut push);
+            edge_events(e, true, step, persist, &is_trigger, &mut push);
         }
     }
     // 3. Sleep and wake.
@@ -111,43 +120,46 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
         } else {
             EventKind::FellAsleep
         };
-        push(kind, n, None, 0);
+        push(kind, n, None, 0, None);
     }
     // 4. Timers.
     for &(t, k) in m.ticks {
-        push(EventKind::TimerTick, t, None, k);
+        push(EventKind::TimerTick, t, None, k, None);
     }
 }
 
-fn edge_events(
-    e: &Edge,
+/// The events of edge `e` (`live`: it is in the graph, not a removed edge's record).
+fn edge_events<'e>(
+    e: &'e Edge,
+    live: bool,
     step: u64,
     persist: bool,
     is_trigger: &dyn Fn(NodeId) -> bool,
-    push: &mut impl FnMut(EventKind, NodeId, Option<NodeId>, u64),
+    push: &mut impl FnMut(EventKind, NodeId, Option<NodeId>, u64, Option<&'e Edge>),
 ) {
     let (a, b) = (e.a(), Some(e.b()));
+    let live = live.then_some(e);
     match e.kind() {
         EdgeKind::Physical => {
             let p = e.proximity_mark(step);
             let t = e.touching_mark(step);
             if p == Some(Transition::New) {
-                push(EventKind::ProximityStarted, a, b, 0);
+                push(EventKind::ProximityStarted, a, b, 0, live);
             }
             if t == Some(Transition::New) {
-                push(EventKind::ContactStarted, a, b, 0);
+                push(EventKind::ContactStarted, a, b, 0, live);
             }
             if persist && p == Some(Transition::Persistent) {
-                push(EventKind::ProximityPersisted, a, b, 0);
+                push(EventKind::ProximityPersisted, a, b, 0, live);
             }
             if persist && t == Some(Transition::Persistent) {
-                push(EventKind::ContactPersisted, a, b, 0);
+                push(EventKind::ContactPersisted, a, b, 0, live);
             }
             if t == Some(Transition::Vanished) {
-                push(EventKind::ContactStopped, a, b, 0);
+                push(EventKind::ContactStopped, a, b, 0, live);
             }
             if p == Some(Transition::Vanished) {
-                push(EventKind::ProximityStopped, a, b, 0);
+                push(EventKind::ProximityStopped, a, b, 0, live);
             }
         }
         EdgeKind::Geometric => {
@@ -158,9 +170,11 @@ fn edge_events(
                 (e.b(), e.a())
             };
             match e.proximity_mark(step) {
-                Some(Transition::New) => push(EventKind::SensorStarted, trigger, Some(body), 0),
+                Some(Transition::New) => {
+                    push(EventKind::SensorStarted, trigger, Some(body), 0, live)
+                }
                 Some(Transition::Vanished) => {
-                    push(EventKind::SensorStopped, trigger, Some(body), 0)
+                    push(EventKind::SensorStopped, trigger, Some(body), 0, live)
                 }
                 _ => {}
             }
