@@ -24,7 +24,8 @@ pub(crate) struct StepMarks<'a> {
 impl StepMarks<'_> {
     /// The normal (from `a` to `b`, `a` the smaller slot) and the normal impulse of a
     /// touching pair: from its edge's cache when the step copied them, else read from
-    /// Rapier's narrow phase (O(the pairs of `a`'s colliders), per touch event).
+    /// Rapier's narrow phase (O(the pairs of the colliders of the node with fewer
+    /// colliders), per touch event).
     fn contact(&self, a: NodeId, b: NodeId) -> (rapier3d::math::Vector, rapier3d::math::Real) {
         let found = if self.details {
             self.graph

@@ -116,7 +116,7 @@ impl ContactLayer {
     /// The details of the contact between `n` and `m` read from Rapier, with the
     /// normal and the push pointing from `n` towards `m` (Rapier's pair orientation
     /// follows the edge's, from the smaller slot to the larger). O(the contact pairs
-    /// of the smaller slot's colliders).
+    /// of the colliders of the node with fewer colliders).
     fn details_from(&self, view: &WorldView, n: NodeId, m: NodeId) -> Option<ContactCache> {
         read_details(&self.graph, view, n, m).map(|mut c| {
             if n.index() > m.index() {

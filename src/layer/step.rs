@@ -251,16 +251,14 @@ impl ContactLayer {
         // The removed edges' records are the groups' alone.
         self.graph.left.clear();
         if let Some(s) = &mut self.speedups {
-            s.decide(
-                &self.graph,
-                &view,
-                &self.groups,
-                self.coherence.refreshed_nodes(),
-                self.coherence.touched_edges(),
-                self.coherence.removed_edges(),
-                !self.coherence.removed_nodes().is_empty(),
+            let changes = crate::speedups::StepChanges {
+                refreshed: self.coherence.refreshed_nodes(),
+                touched: self.coherence.touched_edges(),
+                removed: self.coherence.removed_edges(),
+                nodes_removed: !self.coherence.removed_nodes().is_empty(),
                 step,
-            );
+            };
+            s.decide(&self.graph, &view, &self.groups, &changes);
             if s.is_detached() && s.is_idle() {
                 self.speedups = None;
             }

@@ -276,6 +276,21 @@ pub struct SpeedUpState {
     restored: bool,
 }
 
+/// What the analysis of a step changed, as the decisions read it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepChanges<'a> {
+    /// The nodes refreshed (awake now or at the last update, created, asked for).
+    pub refreshed: &'a [NodeId],
+    /// The edges refreshed, in the analysis' order.
+    pub touched: &'a [crate::graph::EdgeId],
+    /// The records of the edges removed.
+    pub removed: &'a [crate::graph::Edge],
+    /// Whether a node was removed.
+    pub nodes_removed: bool,
+    /// The step's index.
+    pub step: u64,
+}
+
 /// The unit vector against gravity (zero without gravity).
 fn up_of(g: Vector) -> Vector {
     if g.length() > 0.0 {
@@ -920,21 +935,23 @@ impl SpeedUpState {
 
     /// Decides sleep eligibility and fixation after the groups were rebuilt.
     /// O(awake groups' members + fast bodies' contacts).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn decide(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         groups: &crate::Groups,
-        refreshed: &[NodeId],
-        touched: &[crate::graph::EdgeId],
-        removed: &[crate::graph::Edge],
-        nodes_removed: bool,
-        step: u64,
+        changes: &StepChanges,
     ) {
         if self.detached {
             return;
         }
+        let StepChanges {
+            refreshed,
+            touched,
+            removed,
+            nodes_removed,
+            ..
+        } = *changes;
         // An idle step (nothing refreshed, touched or removed, no awake group): no
         // eligibility and no fixation or release to decide; what the support memory
         // depends on (gravity, static supporters' poses) is looked at as always.
@@ -946,7 +963,7 @@ impl SpeedUpState {
         {
             if self.config.fixate {
                 let up = up_of(view.gravity);
-                self.decide_support(graph, view, up, touched, removed, nodes_removed, step);
+                self.decide_support(graph, view, up, changes);
             }
             return;
         }
@@ -1059,27 +1076,23 @@ impl SpeedUpState {
                     self.stats.fixations = self.stats.fixations.saturating_add(1);
                 }
             }
-            self.decide_support(graph, view, up, touched, removed, nodes_removed, step);
+            self.decide_support(graph, view, up, changes);
         }
     }
 
     /// The support memory after the decisions (see [`Self::fixation_supported`]), with
     /// `up` against gravity ([`up_of`]): everything judged again when something it
-    /// depends on changed ([`Self::support_changed`], whose arguments it passes on),
-    /// otherwise only the newly held bodies, unless one of them is unsupported; then
-    /// the held bodies to park are chosen.
-    #[allow(clippy::too_many_arguments)]
+    /// depends on changed ([`Self::support_changed`]), otherwise only the newly held
+    /// bodies, unless one of them is unsupported; then the held bodies to park are
+    /// chosen.
     fn decide_support(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         up: Vector,
-        touched: &[crate::graph::EdgeId],
-        removed: &[crate::graph::Edge],
-        nodes_removed: bool,
-        step: u64,
+        changes: &StepChanges,
     ) {
-        if self.support_changed(graph, view, up, touched, removed, nodes_removed, step)
+        if self.support_changed(graph, view, up, changes)
             || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
         {
             self.evaluate_support(graph, view, up);
@@ -1191,11 +1204,15 @@ impl SpeedUpState {
         graph: &ContactGraph,
         view: &WorldView,
         up: Vector,
-        touched: &[crate::graph::EdgeId],
-        removed: &[crate::graph::Edge],
-        nodes_removed: bool,
-        step: u64,
+        changes: &StepChanges,
     ) -> bool {
+        let StepChanges {
+            touched,
+            removed,
+            nodes_removed,
+            step,
+            ..
+        } = *changes;
         if self.support_dirty || nodes_removed || up != self.support_up {
             return true;
         }
