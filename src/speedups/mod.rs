@@ -243,6 +243,16 @@ pub struct SpeedUpState {
     held: BTreeMap<(u32, u32), Held>,
     /// Held bodies whose remembered support is gone (evaluated after each decision).
     unsupported: std::collections::BTreeSet<(u32, u32)>,
+    /// Held bodies that the last evaluation found resting on a contact Rapier
+    /// computes (`rests_now`): a partial evaluation judges them again, since such a
+    /// contact can turn without a touch beginning or ending.
+    #[cfg_attr(feature = "serde", serde(default))]
+    rest_based: std::collections::BTreeSet<(u32, u32)>,
+    /// Whether `unsupported` and `rest_based` hold a full evaluation's result (kept
+    /// up to date by partial ones since): false when new (or restored from a snapshot
+    /// without it), so that the first evaluation is a full one.
+    #[cfg_attr(feature = "serde", serde(default))]
+    support_partial_ok: bool,
     /// The support memory must be evaluated again in full: bodies were released or
     /// removed.
     support_dirty: bool,
@@ -274,6 +284,19 @@ pub struct SpeedUpState {
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,
+}
+
+/// What [`SpeedUpState::support_changed`] found: what the support memory must judge
+/// again.
+#[derive(Debug)]
+enum SupportChange {
+    /// Nothing it depends on changed.
+    Nothing,
+    /// Only touches of held bodies began or ended: the held ends, in edge order.
+    Touches(Vec<(u32, u32)>),
+    /// Held bodies were released or removed, a node removed, gravity turned, a static
+    /// supporter moved or a scripted one moves (or no partial evaluation applies).
+    Everything,
 }
 
 /// What the analysis of a step changed, as the decisions read it.
@@ -352,6 +375,8 @@ impl SpeedUpState {
             hold_changes: Vec::new(),
             held: BTreeMap::new(),
             unsupported: Default::default(),
+            rest_based: Default::default(),
+            support_partial_ok: false,
             support_dirty: true,
             newly_held: Vec::new(),
             support_up: Vector::ZERO,
@@ -438,6 +463,8 @@ impl SpeedUpState {
         self.parking_now.clear();
         self.parked_now.clear();
         self.unsupported.clear();
+        self.rest_based.clear();
+        self.support_partial_ok = false;
         self.zero_flags.clear();
         self.restored = true;
     }
@@ -1081,10 +1108,11 @@ impl SpeedUpState {
     }
 
     /// The support memory after the decisions (see [`Self::fixation_supported`]), with
-    /// `up` against gravity ([`up_of`]): everything judged again when something it
-    /// depends on changed ([`Self::support_changed`]), otherwise only the newly held
-    /// bodies, unless one of them is unsupported; then the held bodies to park are
-    /// chosen.
+    /// `up` against gravity ([`up_of`]): judged again when something it depends on
+    /// changed ([`Self::support_changed`]): in part when only touches of held bodies
+    /// began or ended ([`Self::evaluate_support_from`]), in full otherwise; else only
+    /// the newly held bodies, unless one of them is unsupported; then the held bodies
+    /// to park are chosen.
     fn decide_support(
         &mut self,
         graph: &ContactGraph,
@@ -1092,10 +1120,18 @@ impl SpeedUpState {
         up: Vector,
         changes: &StepChanges,
     ) {
-        if self.support_changed(graph, view, up, changes)
-            || (!self.newly_held.is_empty() && !self.judge_newly_held(graph, view))
-        {
-            self.evaluate_support(graph, view, up);
+        match self.support_changed(graph, view, up, changes) {
+            SupportChange::Touches(keys) if self.newly_held.is_empty() => {
+                self.evaluate_support_from(graph, view, up, keys);
+            }
+            SupportChange::Touches(_) | SupportChange::Everything => {
+                self.evaluate_support(graph, view, up);
+            }
+            SupportChange::Nothing => {
+                if !self.newly_held.is_empty() && !self.judge_newly_held(graph, view) {
+                    self.evaluate_support(graph, view, up);
+                }
+            }
         }
         self.newly_held.clear();
         self.choose_parking(view);
@@ -1198,14 +1234,13 @@ impl SpeedUpState {
     /// edge only while it touches) or when a kind change dropped it: both are looked
     /// at, so that both trackings decide the same.
     /// O(touched and removed edges + distinct static and scripted supporters).
-    #[allow(clippy::too_many_arguments)]
     fn support_changed(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         up: Vector,
         changes: &StepChanges,
-    ) -> bool {
+    ) -> SupportChange {
         let StepChanges {
             touched,
             removed,
@@ -1214,37 +1249,69 @@ impl SpeedUpState {
             ..
         } = *changes;
         if self.support_dirty || nodes_removed || up != self.support_up {
-            return true;
+            return SupportChange::Everything;
         }
-        let held_node = |n: NodeId| {
+        let held_key = |n: NodeId| {
             graph
                 .body_of(n)
-                .is_some_and(|h| self.held.contains_key(&key(h)))
+                .map(key)
+                .filter(|k| self.held.contains_key(k))
         };
-        let step_contacts = touched.iter().any(|&e| {
-            graph.edge(e).is_some_and(|e| {
-                e.kind() == EdgeKind::Physical
-                    && matches!(
-                        e.touching_mark(step),
-                        Some(crate::graph::Transition::New | crate::graph::Transition::Vanished)
-                    )
-                    && (held_node(e.a()) || held_node(e.b()))
-            })
-        });
-        let ended = removed.iter().any(|e| {
-            e.kind() == EdgeKind::Physical
-                && e.cache().touching_old
-                && (held_node(e.a()) || held_node(e.b()))
-        });
-        step_contacts
-            || ended
-            || self.support_watch.iter().any(|&(n, pose)| match pose {
-                Some(p) => static_pose(graph, view, n) != Some(p),
-                None => graph
-                    .body_of(n)
-                    .and_then(|h| view.bodies.get(h))
-                    .is_none_or(crate::world::moves),
-            })
+        // The held ends of touches that began or ended (an edge's two ends in order).
+        let mut keys = Vec::new();
+        let mut note = |a: NodeId, b: NodeId| {
+            let (ka, kb) = (held_key(a), held_key(b));
+            keys.extend(ka.into_iter().chain(kb));
+        };
+        for e in touched.iter().filter_map(|&e| graph.edge(e)) {
+            if e.kind() == EdgeKind::Physical
+                && matches!(
+                    e.touching_mark(step),
+                    Some(crate::graph::Transition::New | crate::graph::Transition::Vanished)
+                )
+            {
+                note(e.a(), e.b());
+            }
+        }
+        for e in removed {
+            if e.kind() == EdgeKind::Physical && e.cache().touching_old {
+                note(e.a(), e.b());
+            }
+        }
+        // A static supporter moved, or a scripted one moves: everything. A watched
+        // supporter no longer of the kind it was watched as (retyped in place) changes
+        // nothing by itself, as before, but rules out a partial evaluation.
+        let mut retyped = false;
+        for &(n, pose) in &self.support_watch {
+            let node = graph.node(n);
+            let moved = match pose {
+                Some(p) => {
+                    retyped |= node.is_none_or(|x| x.kind() != NodeKind::Fixed);
+                    static_pose(graph, view, n) != Some(p)
+                }
+                None => {
+                    retyped |= node.is_none_or(|x| x.kind() != NodeKind::Kinematic);
+                    graph
+                        .body_of(n)
+                        .and_then(|h| view.bodies.get(h))
+                        .is_none_or(crate::world::moves)
+                }
+            };
+            if moved {
+                return SupportChange::Everything;
+            }
+        }
+        match keys.is_empty() {
+            true => SupportChange::Nothing,
+            false
+                if retyped
+                    || !self.support_partial_ok
+                    || !(up.is_finite() && up != Vector::ZERO) =>
+            {
+                SupportChange::Everything
+            }
+            false => SupportChange::Touches(keys),
+        }
     }
 
     /// Whether a body held by fixation is still supported against gravity: `None` for
@@ -1301,6 +1368,8 @@ impl SpeedUpState {
         }
         self.support_watch_tidy();
         self.unsupported.clear();
+        self.rest_based.clear();
+        self.support_partial_ok = true;
         if !(up.is_finite() && up != Vector::ZERO) || keys.is_empty() {
             return;
         }
@@ -1315,6 +1384,9 @@ impl SpeedUpState {
                 continue;
             }
             let mut base = rests_now(graph, view, held.handle, up);
+            if base {
+                self.rest_based.insert(keys[i]);
+            }
             for s in &held.supports {
                 if base {
                     break;
@@ -1348,6 +1420,133 @@ impl SpeedUpState {
                 .filter(|(_, &ok)| !ok)
                 .map(|(k, _)| *k),
         );
+    }
+
+    /// Judges the support memory again after touches of held bodies began or ended,
+    /// and nothing else it depends on changed ([`Self::support_changed`]): only the
+    /// held bodies whose status those touches can change. A held body's status
+    /// depends on its own contacts and on its remembered supporters, so the bodies to
+    /// judge are `changed` (the held ends of the touches), those resting on a contact
+    /// Rapier computes at the last evaluation (such a contact can turn without
+    /// beginning or ending) and the unsupported ones (one may rest on something now),
+    /// with everything that remembers one of them as a supporter, transitively. Every
+    /// other held body is supported, as before: its support runs through static
+    /// supporters that did not move and held bodies outside the set. The same result
+    /// as [`Self::evaluate_support`] (checked against it after every partial
+    /// evaluation in debug builds). O(held bodies' remembered supporters, read from the
+    /// held records alone, + the judged bodies × their contact pairs).
+    fn evaluate_support_from(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        up: Vector,
+        changed: Vec<(u32, u32)>,
+    ) {
+        use std::collections::BTreeSet;
+        // "Supporter node → the held bodies that remember it", from the held records.
+        let mut dependents: Vec<(NodeId, (u32, u32))> = self
+            .held
+            .iter()
+            .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
+            .collect();
+        dependents.sort_unstable();
+        let mut judged: BTreeSet<(u32, u32)> = changed.into_iter().collect();
+        judged.extend(self.rest_based.iter().copied());
+        judged.extend(self.unsupported.iter().copied());
+        let mut stack: Vec<(u32, u32)> = judged.iter().copied().collect();
+        while let Some(k) = stack.pop() {
+            let Some(n) = self
+                .held
+                .get(&k)
+                .and_then(|held| graph.node_of_body(held.handle))
+            else {
+                continue;
+            };
+            let from = dependents.partition_point(|&(s, _)| s < n);
+            for &(_, d) in dependents[from..].iter().take_while(|&&(s, _)| s == n) {
+                if judged.insert(d) {
+                    stack.push(d);
+                }
+            }
+        }
+        let judged: Vec<(u32, u32)> = judged
+            .into_iter()
+            .filter(|k| self.held.contains_key(k))
+            .collect();
+        // The least fixed point over the judged bodies, as in the full evaluation; a
+        // held supporter outside them is supported.
+        let index = |k: (u32, u32)| judged.binary_search(&k).ok();
+        let mut supported = vec![false; judged.len()];
+        let mut resting = vec![false; judged.len()];
+        let mut links: Vec<(usize, usize)> = Vec::new();
+        let mut queue: Vec<usize> = Vec::new();
+        for (i, k) in judged.iter().enumerate() {
+            let Some(held) = self.held.get(k) else {
+                continue;
+            };
+            if graph.node_of_body(held.handle).is_none() {
+                continue;
+            }
+            let mut base = rests_now(graph, view, held.handle, up);
+            resting[i] = base;
+            for s in &held.supports {
+                if base {
+                    break;
+                }
+                let Some(node) = graph.node(s.node) else {
+                    continue;
+                };
+                let held_supporter = node.body().map(key).filter(|mk| self.held.contains_key(mk));
+                match held_supporter {
+                    Some(mk) => match index(mk) {
+                        Some(j) => links.push((j, i)),
+                        None => base = true,
+                    },
+                    None => base = self.static_support_holds(graph, view, node, s),
+                }
+            }
+            if base {
+                supported[i] = true;
+                queue.push(i);
+            }
+        }
+        links.sort_unstable();
+        while let Some(j) = queue.pop() {
+            let from = links.partition_point(|&(s, _)| s < j);
+            for &(_, d) in links[from..].iter().take_while(|&&(s, _)| s == j) {
+                if !supported[d] {
+                    supported[d] = true;
+                    queue.push(d);
+                }
+            }
+        }
+        for (i, k) in judged.iter().enumerate() {
+            if supported[i] {
+                self.unsupported.remove(k);
+            } else {
+                self.unsupported.insert(*k);
+            }
+            if resting[i] {
+                self.rest_based.insert(*k);
+            } else {
+                self.rest_based.remove(k);
+            }
+        }
+        self.support_dirty = false;
+        self.support_up = up;
+        #[cfg(debug_assertions)]
+        {
+            let mut full = self.clone();
+            full.evaluate_support(graph, view, up);
+            debug_assert_eq!(
+                full.unsupported, self.unsupported,
+                "the partial support evaluation differs from the full one"
+            );
+            debug_assert_eq!(
+                full.support_watch, self.support_watch,
+                "the support watch differs from a full evaluation's"
+            );
+        }
     }
 
     /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
