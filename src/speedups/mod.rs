@@ -290,8 +290,12 @@ pub struct SpeedUpState {
 /// again.
 #[derive(Debug)]
 enum SupportChange {
-    /// Nothing it depends on changed.
-    Nothing,
+    /// Nothing it depends on changed; `partial`: a partial evaluation would apply (for
+    /// newly held bodies found unsupported).
+    Nothing {
+        /// Whether [`SpeedUpState::evaluate_support_from`] applies.
+        partial: bool,
+    },
     /// Only touches of held bodies began or ended: the held ends, in edge order.
     Touches(Vec<(u32, u32)>),
     /// Held bodies were released or removed, a node removed, gravity turned, a static
@@ -1121,15 +1125,23 @@ impl SpeedUpState {
         changes: &StepChanges,
     ) {
         match self.support_changed(graph, view, up, changes) {
-            SupportChange::Touches(keys) if self.newly_held.is_empty() => {
+            SupportChange::Everything => self.evaluate_support(graph, view, up),
+            SupportChange::Touches(mut keys) => {
+                // Bodies held since the last evaluation are judged with the touched
+                // ones, their static supporters watched from now on.
+                keys.extend_from_slice(&self.newly_held);
+                self.watch_newly_held(graph);
                 self.evaluate_support_from(graph, view, up, keys);
             }
-            SupportChange::Touches(_) | SupportChange::Everything => {
-                self.evaluate_support(graph, view, up);
-            }
-            SupportChange::Nothing => {
+            SupportChange::Nothing { partial } => {
                 if !self.newly_held.is_empty() && !self.judge_newly_held(graph, view) {
-                    self.evaluate_support(graph, view, up);
+                    if partial {
+                        let keys = self.newly_held.clone();
+                        self.watch_newly_held(graph);
+                        self.evaluate_support_from(graph, view, up, keys);
+                    } else {
+                        self.evaluate_support(graph, view, up);
+                    }
                 }
             }
         }
@@ -1150,7 +1162,12 @@ impl SpeedUpState {
             let Some(held) = self.held.get(&k) else {
                 continue;
             };
-            let ok = rests_now(graph, view, held.handle, up)
+            let resting = rests_now(graph, view, held.handle, up);
+            if resting {
+                // As a full evaluation would: a later partial one judges it again.
+                self.rest_based.insert(k);
+            }
+            let ok = resting
                 || held.supports.iter().any(|s| {
                     let Some(node) = graph.node(s.node) else {
                         return false;
@@ -1165,14 +1182,22 @@ impl SpeedUpState {
                 break;
             }
         }
-        if all {
-            for k in &new {
-                self.support_watch_add(graph, k);
-            }
-            self.support_watch_tidy();
-        }
         self.newly_held = new;
+        if all {
+            self.watch_newly_held(graph);
+        }
         all
+    }
+
+    /// Adds the static and scripted supporters of the bodies held since the last
+    /// evaluation to the watch list. O(their supporters + the list).
+    fn watch_newly_held(&mut self, graph: &ContactGraph) {
+        let new = std::mem::take(&mut self.newly_held);
+        for k in &new {
+            self.support_watch_add(graph, k);
+        }
+        self.support_watch_tidy();
+        self.newly_held = new;
     }
 
     /// Adds the static and scripted supporters of a held body to the watch list (held
@@ -1301,16 +1326,11 @@ impl SpeedUpState {
                 return SupportChange::Everything;
             }
         }
-        match keys.is_empty() {
-            true => SupportChange::Nothing,
-            false
-                if retyped
-                    || !self.support_partial_ok
-                    || !(up.is_finite() && up != Vector::ZERO) =>
-            {
-                SupportChange::Everything
-            }
-            false => SupportChange::Touches(keys),
+        let partial = !retyped && self.support_partial_ok && up.is_finite() && up != Vector::ZERO;
+        match (keys.is_empty(), partial) {
+            (true, _) => SupportChange::Nothing { partial },
+            (false, false) => SupportChange::Everything,
+            (false, true) => SupportChange::Touches(keys),
         }
     }
 
