@@ -318,6 +318,21 @@ pub(crate) struct StepChanges<'a> {
     pub step: u64,
 }
 
+/// Spreads "supported" from the bases up: `links` holds (supporter, dependent) index
+/// pairs (sorted here), `queue` the supported bases. O(links · log links).
+fn propagate_support(links: &mut [(usize, usize)], supported: &mut [bool], mut queue: Vec<usize>) {
+    links.sort_unstable();
+    while let Some(j) = queue.pop() {
+        let from = links.partition_point(|&(s, _)| s < j);
+        for &(_, d) in links[from..].iter().take_while(|&&(s, _)| s == j) {
+            if !supported[d] {
+                supported[d] = true;
+                queue.push(d);
+            }
+        }
+    }
+}
+
 /// The unit vector against gravity (zero without gravity).
 fn up_of(g: Vector) -> Vector {
     if g.length() > 0.0 {
@@ -1424,16 +1439,7 @@ impl SpeedUpState {
                 queue.push(i);
             }
         }
-        links.sort_unstable();
-        while let Some(j) = queue.pop() {
-            let from = links.partition_point(|&(s, _)| s < j);
-            for &(_, d) in links[from..].iter().take_while(|&&(s, _)| s == j) {
-                if !supported[d] {
-                    supported[d] = true;
-                    queue.push(d);
-                }
-            }
-        }
+        propagate_support(&mut links, &mut supported, queue);
         self.unsupported.extend(
             keys.iter()
                 .zip(&supported)
@@ -1530,16 +1536,7 @@ impl SpeedUpState {
                 queue.push(i);
             }
         }
-        links.sort_unstable();
-        while let Some(j) = queue.pop() {
-            let from = links.partition_point(|&(s, _)| s < j);
-            for &(_, d) in links[from..].iter().take_while(|&&(s, _)| s == j) {
-                if !supported[d] {
-                    supported[d] = true;
-                    queue.push(d);
-                }
-            }
-        }
+        propagate_support(&mut links, &mut supported, queue);
         for (i, k) in judged.iter().enumerate() {
             if supported[i] {
                 self.unsupported.remove(k);
