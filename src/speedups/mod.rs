@@ -1266,9 +1266,10 @@ impl SpeedUpState {
         }
     }
 
-    /// Whether anything the support memory depends on changed since its last
-    /// evaluation: the held set, "up", a node removed, a touching contact of a held
-    /// body begun or ended, a static supporter moved, a scripted supporter moving. A
+    /// What the support memory must judge again since its last evaluation: everything
+    /// when the held set shrank, "up" turned, a node was removed, a static supporter
+    /// moved or a scripted one moves (or no partial judgement applies); the held ends
+    /// when only touching contacts of held bodies began or ended; nothing else. A
     /// touch that ended is a touched edge marked `Vanished` under proximity tracking,
     /// and a removed edge that was touching under touching tracking (which keeps an
     /// edge only while it touches) or when a kind change dropped it: both are looked
