@@ -348,7 +348,7 @@ impl Coherence {
         for &me in &parked {
             if let Some(NodeSource::Body(h)) = graph.node(me).map(|n| n.source) {
                 if let Some(rb) = view.bodies.get(h) {
-                    sensors_of(view, rb, &mut sensors);
+                    sensors.extend(sensors_of(view, rb));
                 }
             }
         }
@@ -620,8 +620,8 @@ impl Coherence {
                 }
             }
             if let Some(rb) = rb {
-                let sensors = rb.colliders().iter().filter(|&&c| is_sensor(view, c));
-                self.walk_sensors.extend(sensors.map(|&c| (id, c)));
+                self.walk_sensors
+                    .extend(sensors_of(view, rb).map(|c| (id, c)));
             }
             self.walk.push(id);
         }
@@ -777,17 +777,14 @@ impl Coherence {
     }
 }
 
-/// Appends the body's sensor colliders to `out`: the look that gives a collider turned
-/// into a sensor in place its trigger in the same step. O(the body's colliders).
-fn sensors_of(view: &WorldView, rb: &rapier3d::prelude::RigidBody, out: &mut Vec<ColliderHandle>) {
-    out.extend(
-        rb.colliders()
-            .iter()
-            .copied()
-            .filter(|&c| is_sensor(view, c)),
-    );
-}
-
-fn is_sensor(view: &WorldView, c: ColliderHandle) -> bool {
-    view.colliders.get(c).is_some_and(|c| c.is_sensor())
+/// The body's sensor colliders: the look that gives a collider turned into a sensor
+/// in place its trigger in the same step. O(the body's colliders).
+fn sensors_of<'a>(
+    view: &'a WorldView,
+    rb: &'a rapier3d::prelude::RigidBody,
+) -> impl Iterator<Item = ColliderHandle> + 'a {
+    rb.colliders()
+        .iter()
+        .copied()
+        .filter(|&c| view.colliders.get(c).is_some_and(|c| c.is_sensor()))
 }

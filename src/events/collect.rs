@@ -23,15 +23,23 @@ pub(crate) struct StepMarks<'a> {
 
 impl StepMarks<'_> {
     /// The normal (from `a` to `b`, `a` the smaller slot) and the normal impulse of a
-    /// touching pair: from its edge's cache when the step copied them, else read from
-    /// Rapier's narrow phase (O(the pairs of the colliders of the node with fewer
-    /// colliders), per touch event).
-    fn contact(&self, a: NodeId, b: NodeId) -> (rapier3d::math::Vector, rapier3d::math::Real) {
+    /// touching pair: from its edge's cache when the step copied them (`live`, the
+    /// pair's edge when the caller has it, else looked up), else read from Rapier's
+    /// narrow phase (O(the pairs of the colliders of the node with fewer colliders),
+    /// per touch event).
+    fn contact(
+        &self,
+        a: NodeId,
+        b: NodeId,
+        live: Option<&Edge>,
+    ) -> (rapier3d::math::Vector, rapier3d::math::Real) {
         let found = if self.details {
-            self.graph
-                .edge_by_key(crate::graph::PairKey::of(a, b))
-                .and_then(|e| self.graph.edge(e))
-                .map(|e| (e.cache().normal, e.cache().normal_impulse))
+            live.or_else(|| {
+                self.graph
+                    .edge_by_key(crate::graph::PairKey::of(a, b))
+                    .and_then(|e| self.graph.edge(e))
+            })
+            .map(|e| (e.cache().normal, e.cache().normal_impulse))
         } else {
             crate::coherence::details::read_details(self.graph, self.view, a, b)
                 .map(|c| (c.normal, c.normal_impulse))
@@ -82,25 +90,21 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let body = |n: NodeId| m.body(n);
     let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Sensor);
     // `live`: the edge of an edge event when it is in the graph (the pair's only edge):
-    // its details are read from it, without looking the pair up.
-    let mut push = |kind: EventKind,
-                    a: NodeId,
-                    b: Option<NodeId>,
-                    tick: u64,
-                    live: Option<&Edge>| {
-        if wanted.contains(kind) {
-            let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
-            e.collider1 = m.collider(a);
-            e.collider2 = b.and_then(|b| m.collider(b));
-            if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) = (kind, b) {
-                (e.normal, e.impulse) = match live {
-                    Some(edge) if m.details => (edge.cache().normal, edge.cache().normal_impulse),
-                    _ => m.contact(a, b),
-                };
+    // its details are read from it, without looking the pair up (`StepMarks::contact`).
+    let mut push =
+        |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64, live: Option<&Edge>| {
+            if wanted.contains(kind) {
+                let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
+                e.collider1 = m.collider(a);
+                e.collider2 = b.and_then(|b| m.collider(b));
+                if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) =
+                    (kind, b)
+                {
+                    (e.normal, e.impulse) = m.contact(a, b, live);
+                }
+                out.push(e);
             }
-            out.push(e);
-        }
-    };
+        };
     let awake = |n: NodeId| m.graph.node(n).is_some_and(|n| n.is_awake());
 
     // 1. Ends of edges removed with a node (or made passive, or left a trigger).

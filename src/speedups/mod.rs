@@ -1409,20 +1409,39 @@ impl SpeedUpState {
         if !(up.is_finite() && up != Vector::ZERO) || keys.is_empty() {
             return;
         }
-        // Held bodies by index (keys are sorted: a held supporter is found by binary
+        let (supported, resting) = self.judge_support(graph, view, up, &keys, self.held.values());
+        self.apply_judgement(&keys, &supported, &resting);
+    }
+
+    /// Judges the held bodies `judged` (sorted keys of held bodies; `records`, their
+    /// held records in the same order): "supported" as the least fixed point from the
+    /// bases up (see [`Self::fixation_supported`]), a held supporter outside `judged`
+    /// counting as supported. Returns, per judged body, whether it is supported and
+    /// whether it rests on a contact Rapier computes now. O(judged bodies × their
+    /// contact pairs and remembered supporters).
+    fn judge_support<'h>(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        up: Vector,
+        judged: &[(u32, u32)],
+        records: impl Iterator<Item = &'h Held>,
+    ) -> (Vec<bool>, Vec<bool>) {
+        // Judged bodies by index (keys are sorted: a held supporter is found by binary
         // search); "supporter i holds up dependent j" as pairs, sorted into ranges.
-        let index = |h: RigidBodyHandle| keys.binary_search(&key(h)).ok();
-        let mut supported = vec![false; keys.len()];
+        let index = |k: (u32, u32)| judged.binary_search(&k).ok();
+        // Only a partial judgement has held supporters outside the judged bodies.
+        let partial = judged.len() < self.held.len();
+        let mut supported = vec![false; judged.len()];
+        let mut resting = vec![false; judged.len()];
         let mut links: Vec<(usize, usize)> = Vec::new();
         let mut queue: Vec<usize> = Vec::new();
-        for (i, held) in self.held.values().enumerate() {
+        for (i, held) in records.enumerate() {
             if graph.node_of_body(held.handle).is_none() {
                 continue;
             }
             let mut base = rests_now(graph, view, held.handle, up);
-            if base {
-                self.rest_based.insert(keys[i]);
-            }
+            resting[i] = base;
             for s in &held.supports {
                 if base {
                     break;
@@ -1430,8 +1449,12 @@ impl SpeedUpState {
                 let Some(node) = graph.node(s.node) else {
                     continue;
                 };
-                match node.body().and_then(index) {
-                    Some(j) => links.push((j, i)),
+                match node.body().map(key) {
+                    Some(mk) => match index(mk) {
+                        Some(j) => links.push((j, i)),
+                        None if partial && self.held.contains_key(&mk) => base = true,
+                        None => base = self.static_support_holds(graph, view, node, s),
+                    },
                     None => base = self.static_support_holds(graph, view, node, s),
                 }
             }
@@ -1441,12 +1464,24 @@ impl SpeedUpState {
             }
         }
         propagate_support(&mut links, &mut supported, queue);
-        self.unsupported.extend(
-            keys.iter()
-                .zip(&supported)
-                .filter(|(_, &ok)| !ok)
-                .map(|(k, _)| *k),
-        );
+        (supported, resting)
+    }
+
+    /// Records a judgement ([`Self::judge_support`]) of the held bodies `judged` in
+    /// the unsupported and resting sets. O(judged · log held).
+    fn apply_judgement(&mut self, judged: &[(u32, u32)], supported: &[bool], resting: &[bool]) {
+        for (i, k) in judged.iter().enumerate() {
+            if supported[i] {
+                self.unsupported.remove(k);
+            } else {
+                self.unsupported.insert(*k);
+            }
+            if resting[i] {
+                self.rest_based.insert(*k);
+            } else {
+                self.rest_based.remove(k);
+            }
+        }
     }
 
     /// Judges the support memory again after touches of held bodies began or ended,
@@ -1500,56 +1535,9 @@ impl SpeedUpState {
             .into_iter()
             .filter(|k| self.held.contains_key(k))
             .collect();
-        // The least fixed point over the judged bodies, as in the full evaluation; a
-        // held supporter outside them is supported.
-        let index = |k: (u32, u32)| judged.binary_search(&k).ok();
-        let mut supported = vec![false; judged.len()];
-        let mut resting = vec![false; judged.len()];
-        let mut links: Vec<(usize, usize)> = Vec::new();
-        let mut queue: Vec<usize> = Vec::new();
-        for (i, k) in judged.iter().enumerate() {
-            let Some(held) = self.held.get(k) else {
-                continue;
-            };
-            if graph.node_of_body(held.handle).is_none() {
-                continue;
-            }
-            let mut base = rests_now(graph, view, held.handle, up);
-            resting[i] = base;
-            for s in &held.supports {
-                if base {
-                    break;
-                }
-                let Some(node) = graph.node(s.node) else {
-                    continue;
-                };
-                let held_supporter = node.body().map(key).filter(|mk| self.held.contains_key(mk));
-                match held_supporter {
-                    Some(mk) => match index(mk) {
-                        Some(j) => links.push((j, i)),
-                        None => base = true,
-                    },
-                    None => base = self.static_support_holds(graph, view, node, s),
-                }
-            }
-            if base {
-                supported[i] = true;
-                queue.push(i);
-            }
-        }
-        propagate_support(&mut links, &mut supported, queue);
-        for (i, k) in judged.iter().enumerate() {
-            if supported[i] {
-                self.unsupported.remove(k);
-            } else {
-                self.unsupported.insert(*k);
-            }
-            if resting[i] {
-                self.rest_based.insert(*k);
-            } else {
-                self.rest_based.remove(k);
-            }
-        }
+        let records = judged.iter().filter_map(|k| self.held.get(k));
+        let (supported, resting) = self.judge_support(graph, view, up, &judged, records);
+        self.apply_judgement(&judged, &supported, &resting);
         self.support_dirty = false;
         self.support_up = up;
         #[cfg(debug_assertions)]
