@@ -171,8 +171,10 @@ use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 /// layer's state that older builds could not read.
 /// Format 2 leaves out the analysis' lookup caches (collider owners, pair slots);
 /// format 3 adds whether the layer's event handler reached the last step (touching
-/// tracking as the default).
-pub const SNAPSHOT_FORMAT: u32 = 3;
+/// tracking as the default); format 4 adds the speed-ups' partial support judgement
+/// (the bodies resting on computed contacts, each held body's watched supporters with
+/// the watch's counts, the records of bodies released since the last judgement).
+pub const SNAPSHOT_FORMAT: u32 = 4;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");

@@ -91,6 +91,11 @@ struct Held {
     /// Where it is on the way out of Rapier's active set (see "Held bodies" above).
     #[cfg_attr(feature = "serde", serde(default))]
     park: Park,
+    /// What it added to the support watch when it was last judged
+    /// ([`SpeedUpState::watch_of`]): taken off again when it is judged anew or
+    /// released.
+    #[cfg_attr(feature = "serde", serde(default))]
+    watched: Vec<(NodeId, Option<Pose>)>,
 }
 
 impl Held {
@@ -253,16 +258,22 @@ pub struct SpeedUpState {
     /// without it), so that the first evaluation is a full one.
     #[cfg_attr(feature = "serde", serde(default))]
     support_partial_ok: bool,
-    /// The support memory must be evaluated again in full: bodies were released or
-    /// removed.
+    /// The support memory must be evaluated again in full: held bodies were removed
+    /// from the world.
     support_dirty: bool,
+    /// The records of the bodies released since the last evaluation: a partial one
+    /// judges again what rested on them, and takes their watched supporters off.
+    #[cfg_attr(feature = "serde", serde(default))]
+    released: Vec<Held>,
     /// Bodies held since the last evaluation (judged alone when nothing else changed).
     newly_held: Vec<(u32, u32)>,
     /// "Up" at the last evaluation.
     support_up: Vector,
     /// The distinct static (with their pose then) and scripted supporters of the held
-    /// bodies at the last evaluation: a change of any of them re-evaluates.
-    support_watch: Vec<(NodeId, Option<Pose>)>,
+    /// bodies, each with the number of held bodies that watch it (their
+    /// [`Held::watched`]), sorted by node and pose: a change of any of them
+    /// re-evaluates.
+    support_watch: Vec<(NodeId, Option<Pose>, u32)>,
     /// Tweak and reduce stand down (the monitor's repair of a deep penetration).
     pub(crate) suspend_thinning: bool,
     /// Colliders flagged for `modify_solver_contacts`, with their former flags.
@@ -296,10 +307,12 @@ enum SupportChange {
         /// Whether [`SpeedUpState::evaluate_support_from`] applies.
         partial: bool,
     },
-    /// Only touches of held bodies began or ended: the held ends, in edge order.
+    /// Only touches of held bodies began or ended, or held bodies were released: the
+    /// held ends of the touches, in edge order (the released bodies are in
+    /// `SpeedUpState::released`).
     Touches(Vec<(u32, u32)>),
-    /// Held bodies were released or removed, a node removed, gravity turned, a static
-    /// supporter moved or a scripted one moves (or no partial evaluation applies).
+    /// Held bodies were removed, a node removed, gravity turned, a static supporter
+    /// moved or a scripted one moves (or no partial evaluation applies).
     Everything,
 }
 
@@ -397,6 +410,7 @@ impl SpeedUpState {
             rest_based: Default::default(),
             support_partial_ok: false,
             support_dirty: true,
+            released: Vec::new(),
             newly_held: Vec::new(),
             support_up: Vector::ZERO,
             support_watch: Vec::new(),
@@ -483,6 +497,7 @@ impl SpeedUpState {
         self.parked_now.clear();
         self.unsupported.clear();
         self.rest_based.clear();
+        self.released.clear();
         self.support_partial_ok = false;
         self.zero_flags.clear();
         self.restored = true;
@@ -691,13 +706,13 @@ impl SpeedUpState {
         self.hold_changes.clear();
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.held.remove(&key(h)) {
-                self.support_dirty = true;
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
                 if let Some(rb) = held.give_back(world, user_passive) {
                     remember_activation(&mut self.activations, h, rb);
                     never_activation(rb.activation_mut());
                 }
+                self.released.push(held);
                 let r = self.rest_mut(h);
                 r.steps = 0;
                 r.sleepy = false;
@@ -725,6 +740,7 @@ impl SpeedUpState {
                 angvel: rb.angvel(),
                 supports,
                 park: Park::Active,
+                watched: Vec::new(),
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
             self.held.insert(key(h), held);
@@ -1129,7 +1145,8 @@ impl SpeedUpState {
     /// The support memory after the decisions (see [`Self::fixation_supported`]), with
     /// `up` against gravity ([`up_of`]): judged again when something it depends on
     /// changed ([`Self::support_changed`]): in part when only touches of held bodies
-    /// began or ended ([`Self::evaluate_support_from`]), in full otherwise; else only
+    /// began or ended or held bodies were released ([`Self::evaluate_support_from`]),
+    /// in full otherwise; else only
     /// the newly held bodies, unless one of them is unsupported; then the held bodies
     /// to park are chosen.
     fn decide_support(
@@ -1204,22 +1221,21 @@ impl SpeedUpState {
         all
     }
 
-    /// Adds the static and scripted supporters of the bodies held since the last
-    /// evaluation to the watch list. O(their supporters + the list).
+    /// Watches the static and scripted supporters of the bodies held since the last
+    /// evaluation from now on ([`Self::rewatch`]). O(their supporters · log watch).
     fn watch_newly_held(&mut self, graph: &ContactGraph) {
         let new = std::mem::take(&mut self.newly_held);
         for k in &new {
-            self.support_watch_add(graph, k);
+            self.rewatch(graph, k);
         }
-        self.support_watch_tidy();
         self.newly_held = new;
     }
 
-    /// Adds the static and scripted supporters of a held body to the watch list (held
-    /// supporters are not watched: their release marks the memory dirty). The caller
-    /// sorts and dedups the list.
-    fn support_watch_add(&mut self, graph: &ContactGraph, k: &(u32, u32)) {
-        let Some(held) = self.held.get(k) else { return };
+    /// The static and scripted supporters of a held body that the support memory
+    /// watches (held supporters are not watched: their release judges again what
+    /// rests on them). O(its supporters).
+    fn watch_of(&self, graph: &ContactGraph, held: &Held) -> Vec<(NodeId, Option<Pose>)> {
+        let mut out = Vec::new();
         for s in &held.supports {
             let Some(node) = graph.node(s.node) else {
                 continue;
@@ -1233,17 +1249,49 @@ impl SpeedUpState {
                 _ => false,
             };
             if watched {
-                self.support_watch.push((s.node, s.pose));
+                out.push((s.node, s.pose));
+            }
+        }
+        out
+    }
+
+    /// Counts `entries` into the support watch (`add`) or out of it. O(entries · log
+    /// watch), plus a shift where an entry appears or goes.
+    fn watch_count(&mut self, entries: &[(NodeId, Option<Pose>)], add: bool) {
+        for &(n, pose) in entries {
+            let bits = pose_bits(pose);
+            let at = self
+                .support_watch
+                .binary_search_by(|&(m, p, _)| m.cmp(&n).then_with(|| pose_bits(p).cmp(&bits)));
+            match (at, add) {
+                (Ok(i), true) => {
+                    let c = &mut self.support_watch[i].2;
+                    *c = c.saturating_add(1);
+                }
+                (Err(i), true) => self.support_watch.insert(i, (n, pose, 1)),
+                (Ok(i), false) => {
+                    let c = &mut self.support_watch[i].2;
+                    *c = c.saturating_sub(1);
+                    if *c == 0 {
+                        self.support_watch.remove(i);
+                    }
+                }
+                (Err(_), false) => {}
             }
         }
     }
 
-    fn support_watch_tidy(&mut self) {
-        self.support_watch.sort_unstable_by(|a, b| {
-            a.0.cmp(&b.0)
-                .then_with(|| pose_bits(a.1).cmp(&pose_bits(b.1)))
-        });
-        self.support_watch.dedup();
+    /// Replaces what held body `k` adds to the support watch by what it adds now.
+    /// O(its supporters · log watch).
+    fn rewatch(&mut self, graph: &ContactGraph, k: &(u32, u32)) {
+        let Some(held) = self.held.get(k) else { return };
+        let now = self.watch_of(graph, held);
+        let Some(held) = self.held.get_mut(k) else {
+            return;
+        };
+        let before = std::mem::replace(&mut held.watched, now.clone());
+        self.watch_count(&before, false);
+        self.watch_count(&now, true);
     }
 
     /// Whether a supporter that is not a held body still supports: static geometry
@@ -1267,9 +1315,10 @@ impl SpeedUpState {
     }
 
     /// What the support memory must judge again since its last evaluation: everything
-    /// when the held set shrank, "up" turned, a node was removed, a static supporter
-    /// moved or a scripted one moves (or no partial judgement applies); the held ends
-    /// when only touching contacts of held bodies began or ended; nothing else. A
+    /// when held bodies were removed from the world, "up" turned, a node was removed,
+    /// a static supporter moved or a scripted one moves (or no partial judgement
+    /// applies); the held ends when only touching contacts of held bodies began or
+    /// ended or held bodies were released; nothing else. A
     /// touch that ended is a touched edge marked `Vanished` under proximity tracking,
     /// and a removed edge that was touching under touching tracking (which keeps an
     /// edge only while it touches) or when a kind change dropped it: both are looked
@@ -1323,7 +1372,7 @@ impl SpeedUpState {
         // supporter no longer of the kind it was watched as (retyped in place) changes
         // nothing by itself, as before, but rules out a partial evaluation.
         let mut retyped = false;
-        for &(n, pose) in &self.support_watch {
+        for &(n, pose, _) in &self.support_watch {
             let node = graph.node(n);
             let moved = match pose {
                 Some(p) => {
@@ -1343,7 +1392,7 @@ impl SpeedUpState {
             }
         }
         let partial = !retyped && self.support_partial_ok && up.is_finite() && up != Vector::ZERO;
-        match (keys.is_empty(), partial) {
+        match (keys.is_empty() && self.released.is_empty(), partial) {
             (true, _) => SupportChange::Nothing { partial },
             (false, false) => SupportChange::Everything,
             (false, true) => SupportChange::Touches(keys),
@@ -1398,11 +1447,14 @@ impl SpeedUpState {
         self.support_dirty = false;
         self.support_up = up;
         self.support_watch.clear();
+        self.released.clear();
         let keys: Vec<(u32, u32)> = self.held.keys().copied().collect();
         for k in &keys {
-            self.support_watch_add(graph, k);
+            if let Some(held) = self.held.get_mut(k) {
+                held.watched.clear();
+            }
+            self.rewatch(graph, k);
         }
-        self.support_watch_tidy();
         self.unsupported.clear();
         self.rest_based.clear();
         self.support_partial_ok = true;
@@ -1484,19 +1536,21 @@ impl SpeedUpState {
         }
     }
 
-    /// Judges the support memory again after touches of held bodies began or ended,
-    /// and nothing else it depends on changed ([`Self::support_changed`]): only the
-    /// held bodies whose status those touches can change. A held body's status
-    /// depends on its own contacts and on its remembered supporters, so the bodies to
-    /// judge are `changed` (the held ends of the touches), those resting on a contact
-    /// Rapier computes at the last evaluation (such a contact can turn without
-    /// beginning or ending) and the unsupported ones (one may rest on something now),
-    /// with everything that remembers one of them as a supporter, transitively. Every
-    /// other held body is supported, as before: its support runs through static
-    /// supporters that did not move and held bodies outside the set. The same result
-    /// as [`Self::evaluate_support`] (checked against it after every partial
-    /// evaluation in debug builds). O(held bodies' remembered supporters, read from the
-    /// held records alone, + the judged bodies × their contact pairs).
+    /// Judges the support memory again after touches of held bodies began or ended or
+    /// held bodies were released, and nothing else it depends on changed
+    /// ([`Self::support_changed`]): only the held bodies whose status those changes
+    /// can change. A held body's status depends on its own contacts and on its
+    /// remembered supporters, so the bodies to judge are `changed` (the held ends of
+    /// the touches), those resting on a contact Rapier computes at the last evaluation
+    /// (such a contact can turn without beginning or ending), the unsupported ones
+    /// (one may rest on something now) and those that remember a released body, with
+    /// everything that remembers one of them as a supporter, transitively. Every other
+    /// held body is supported, as before: its support runs through static supporters
+    /// that did not move and held bodies outside the set. The judged bodies' watched
+    /// supporters are counted again, the released bodies' taken off. The same result
+    /// as [`Self::evaluate_support`], watch included (checked against it after every
+    /// partial evaluation in debug builds). O(held bodies' remembered supporters, read
+    /// from the held records alone, + the judged bodies × their contact pairs).
     fn evaluate_support_from(
         &mut self,
         graph: &ContactGraph,
@@ -1505,6 +1559,17 @@ impl SpeedUpState {
         changed: Vec<(u32, u32)>,
     ) {
         use std::collections::BTreeSet;
+        // The released bodies are held no more: their records leave the sets and the
+        // watch, and what rested on them is judged again.
+        let released = std::mem::take(&mut self.released);
+        for r in &released {
+            let k = key(r.handle);
+            if !self.held.contains_key(&k) {
+                self.unsupported.remove(&k);
+                self.rest_based.remove(&k);
+            }
+            self.watch_count(&r.watched, false);
+        }
         // "Supporter node → the held bodies that remember it", from the held records.
         let mut dependents: Vec<(NodeId, (u32, u32))> = self
             .held
@@ -1515,19 +1580,18 @@ impl SpeedUpState {
         let mut judged: BTreeSet<(u32, u32)> = changed.into_iter().collect();
         judged.extend(self.rest_based.iter().copied());
         judged.extend(self.unsupported.iter().copied());
-        let mut stack: Vec<(u32, u32)> = judged.iter().copied().collect();
-        while let Some(k) = stack.pop() {
-            let Some(n) = self
-                .held
-                .get(&k)
+        let node_of = |k: &(u32, u32)| {
+            self.held
+                .get(k)
                 .and_then(|held| graph.node_of_body(held.handle))
-            else {
-                continue;
-            };
+        };
+        let mut stack: Vec<NodeId> = judged.iter().filter_map(node_of).collect();
+        stack.extend(released.iter().filter_map(|r| graph.node_of_body(r.handle)));
+        while let Some(n) = stack.pop() {
             let from = dependents.partition_point(|&(s, _)| s < n);
             for &(_, d) in dependents[from..].iter().take_while(|&&(s, _)| s == n) {
                 if judged.insert(d) {
-                    stack.push(d);
+                    stack.extend(node_of(&d));
                 }
             }
         }
@@ -1538,6 +1602,9 @@ impl SpeedUpState {
         let records = judged.iter().filter_map(|k| self.held.get(k));
         let (supported, resting) = self.judge_support(graph, view, up, &judged, records);
         self.apply_judgement(&judged, &supported, &resting);
+        for k in &judged {
+            self.rewatch(graph, k);
+        }
         self.support_dirty = false;
         self.support_up = up;
         #[cfg(debug_assertions)]
