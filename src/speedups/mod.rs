@@ -1038,10 +1038,19 @@ impl SpeedUpState {
                 // order does not matter: each body is in one group, and the pre-step
                 // writes the decisions in handle order.)
                 for (_, g) in groups.iter_awake() {
-                    let bodies: Vec<RigidBodyHandle> =
-                        g.bodies.iter().filter_map(|&n| graph.body_of(n)).collect();
-                    let all = bodies.iter().all(|&h| self.is_sleepy(h));
-                    want.extend(bodies.into_iter().map(|h| (h, all)));
+                    let from = want.len();
+                    want.extend(
+                        g.bodies
+                            .iter()
+                            .filter_map(|&n| graph.body_of(n))
+                            .map(|h| (h, false)),
+                    );
+                    let all = want[from..].iter().all(|&(h, _)| self.is_sleepy(h));
+                    if all {
+                        for w in &mut want[from..] {
+                            w.1 = true;
+                        }
+                    }
                 }
                 // Sleepy bodies outside any group (insulated by subgrouping) decide alone.
                 for &n in refreshed {
@@ -1062,6 +1071,12 @@ impl SpeedUpState {
             }
         }
         for (h, eligible) in want {
+            // Most decisions are those of the last step: the body is looked up in
+            // Rapier only when its eligibility changes (a body without a record is
+            // not eligible).
+            if self.rest_of(h).is_some_and(|r| r.eligible) == eligible {
+                continue;
+            }
             if view.bodies.get(h).is_none_or(|b| !b.is_dynamic()) {
                 continue;
             }
@@ -1074,8 +1089,9 @@ impl SpeedUpState {
 
         if c.fixate {
             let up = up_of(view.gravity);
-            // Release: a fast, non-sleepy body touching a held one.
-            for &n in refreshed {
+            // Release: a fast, non-sleepy body touching a held one (none to look for
+            // while nothing is held).
+            for &n in refreshed.iter().filter(|_| !self.held.is_empty()) {
                 let Some(node) = graph.node(n) else { continue };
                 if !node.kind().is_simulated() || !node.is_awake() {
                     continue;
