@@ -509,6 +509,9 @@ impl ContactLayer {
         // groups' lists (on any bytes), then checked with the rest.
         state.groups.reindex(&mut state.graph);
         state.graph.recount_geometric();
+        if let Some(s) = &mut state.speedups {
+            s.reindex();
+        }
         check_state(&state).map_err(|e| Error::Invariant(format!("snapshot: {e}")))?;
         bind_predicates(&mut state.logic, bind)?;
         let mut state = state;

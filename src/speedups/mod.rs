@@ -267,6 +267,15 @@ pub struct SpeedUpState {
     released: Vec<Held>,
     /// Bodies held since the last evaluation (judged alone when nothing else changed).
     newly_held: Vec<(u32, u32)>,
+    /// "Supporter node → the held bodies that remember it", as (supporter, held key)
+    /// pairs: the partial judgement's index, kept in step with every hold and release
+    /// ([`Self::hold`], [`Self::unhold`]). Derived from the held records, so not
+    /// saved: built again from them on restore ([`Self::reindex`]).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    dependents: std::collections::BTreeSet<(NodeId, (u32, u32))>,
+    /// Whether `dependents` matches the held records.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    dependents_ok: bool,
     /// "Up" at the last evaluation.
     support_up: Vector,
     /// The distinct static (with their pose then) and scripted supporters of the held
@@ -412,6 +421,8 @@ impl SpeedUpState {
             support_dirty: true,
             released: Vec::new(),
             newly_held: Vec::new(),
+            dependents: Default::default(),
+            dependents_ok: true,
             support_up: Vector::ZERO,
             support_watch: Vec::new(),
             suspend_thinning: false,
@@ -463,6 +474,8 @@ impl SpeedUpState {
         for (_, held) in std::mem::take(&mut self.held) {
             held.give_back(world, user_passive);
         }
+        self.dependents.clear();
+        self.dependents_ok = true;
         self.set_modify_flags(world, &[]);
         for (_, (h, original)) in std::mem::take(&mut self.damped) {
             if let Some(rb) = world.bodies.get_mut(h) {
@@ -511,6 +524,46 @@ impl SpeedUpState {
     /// The counters of the last step.
     pub fn stats(&self) -> SpeedUpStats {
         self.stats
+    }
+
+    /// Records a held body, and its supporters in the dependents index. O(its
+    /// supporters · log).
+    fn hold(&mut self, held: Held) {
+        let k = key(held.handle);
+        if self.dependents_ok {
+            self.dependents
+                .extend(held.supports.iter().map(|s| (s.node, k)));
+        }
+        if let Some(old) = self.held.insert(k, held) {
+            self.forget_dependents(k, &old);
+        }
+    }
+
+    /// Forgets a held body's record, and its supporters in the dependents index.
+    /// O(its supporters · log).
+    fn unhold(&mut self, k: (u32, u32)) -> Option<Held> {
+        let held = self.held.remove(&k)?;
+        self.forget_dependents(k, &held);
+        Some(held)
+    }
+
+    /// Builds the indexes left out of snapshots (the dependents index) from the held
+    /// records. O(held bodies' supporters · log).
+    pub(crate) fn reindex(&mut self) {
+        self.dependents = self
+            .held
+            .iter()
+            .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
+            .collect();
+        self.dependents_ok = true;
+    }
+
+    fn forget_dependents(&mut self, k: (u32, u32), held: &Held) {
+        if self.dependents_ok {
+            for s in &held.supports {
+                self.dependents.remove(&(s.node, k));
+            }
+        }
     }
 
     fn rest_of(&self, h: RigidBodyHandle) -> Option<&Rest> {
@@ -705,7 +758,7 @@ impl SpeedUpState {
         }
         self.hold_changes.clear();
         for h in std::mem::take(&mut self.to_release) {
-            if let Some(held) = self.held.remove(&key(h)) {
+            if let Some(held) = self.unhold(key(h)) {
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
                 if let Some(rb) = held.give_back(world, user_passive) {
@@ -743,7 +796,7 @@ impl SpeedUpState {
                 watched: Vec::new(),
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
-            self.held.insert(key(h), held);
+            self.hold(held);
             self.unparked.insert(key(h));
             self.newly_held.push(key(h));
             self.hold_changes.push((h, false));
@@ -765,7 +818,7 @@ impl SpeedUpState {
             .map(|(k, _)| *k)
             .collect();
         for k in gone {
-            self.held.remove(&k);
+            self.unhold(k);
             self.unparked.remove(&k);
             self.support_dirty = true;
         }
@@ -1565,8 +1618,10 @@ impl SpeedUpState {
     /// that did not move and held bodies outside the set. The judged bodies' watched
     /// supporters are counted again, the released bodies' taken off. The same result
     /// as [`Self::evaluate_support`], watch included (checked against it after every
-    /// partial evaluation in debug builds). O(held bodies' remembered supporters, read
-    /// from the held records alone, + the judged bodies × their contact pairs).
+    /// partial evaluation in debug builds). O(the judged bodies × (their contact pairs
+    /// + their entries in the dependents index · log)); the index is built from the
+    /// held records (O(held bodies' supporters · log)) only at the first partial
+    /// judgement after a restore.
     fn evaluate_support_from(
         &mut self,
         graph: &ContactGraph,
@@ -1586,13 +1641,9 @@ impl SpeedUpState {
             }
             self.watch_count(&r.watched, false);
         }
-        // "Supporter node → the held bodies that remember it", from the held records.
-        let mut dependents: Vec<(NodeId, (u32, u32))> = self
-            .held
-            .iter()
-            .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
-            .collect();
-        dependents.sort_unstable();
+        if !self.dependents_ok {
+            self.reindex();
+        }
         let mut judged: BTreeSet<(u32, u32)> = changed.into_iter().collect();
         judged.extend(self.rest_based.iter().copied());
         judged.extend(self.unsupported.iter().copied());
@@ -1604,8 +1655,10 @@ impl SpeedUpState {
         let mut stack: Vec<NodeId> = judged.iter().filter_map(node_of).collect();
         stack.extend(released.iter().filter_map(|r| graph.node_of_body(r.handle)));
         while let Some(n) = stack.pop() {
-            let from = dependents.partition_point(|&(s, _)| s < n);
-            for &(_, d) in dependents[from..].iter().take_while(|&&(s, _)| s == n) {
+            for &(_, d) in self
+                .dependents
+                .range((n, (0, 0))..=(n, (u32::MAX, u32::MAX)))
+            {
                 if judged.insert(d) {
                     stack.extend(node_of(&d));
                 }
@@ -1625,6 +1678,12 @@ impl SpeedUpState {
         self.support_up = up;
         #[cfg(debug_assertions)]
         {
+            let index: std::collections::BTreeSet<(NodeId, (u32, u32))> = self
+                .held
+                .iter()
+                .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
+                .collect();
+            debug_assert_eq!(index, self.dependents, "the dependents index is stale");
             let mut full = self.clone();
             full.evaluate_support(graph, view, up);
             debug_assert_eq!(
