@@ -12,6 +12,11 @@
 //! Reported per scene, as ratios within the run (absolute times for orientation only):
 //! the whole run, the settled phase (the last `--tail` steps) per step, and for each
 //! world the first step from which 95% of the dynamic bodies stay held or asleep.
+//! After the run, the held world is timed once more beside its *floor* (see
+//! [`floor_of`]): the same bodies where they are, the held ones fixed from the start
+//! (out of Rapier's active set) and no layer, in batches alternating, both worlds
+//! small: what Rapier alone charges for the moving bodies left, apart from the layer
+//! and the held bodies Rapier keeps in its active set.
 //!
 //! Scenes: `boxes` (500 boxes in stacks: stock Rapier sleeps them), `pyramid` (a
 //! 40-row pyramid, 820 boxes: stock sleeps it too), `spheres` (the 1,000-sphere
@@ -28,7 +33,7 @@
 
 use clap::Parser;
 use cpu_time::ThreadTime;
-use rapier3d::prelude::PhysicsWorld;
+use rapier3d::prelude::{PhysicsWorld, RigidBodyType};
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
@@ -104,6 +109,33 @@ struct Run {
     fixated_end: usize,
     parked_end: usize,
     violations: usize,
+    /// After the run: the held world and its *floor* stepped in batches alternately,
+    /// seconds per step (held, floor).
+    floor: (f64, f64),
+}
+
+/// Rapier's floor for a held world: a fresh world of the scene with every body where
+/// the held world has it, the held bodies fixed before its first step (so never in
+/// Rapier's active set, as no change after a step can achieve) and the others dynamic
+/// with their velocities and sleep settings; no layer. What Rapier alone charges for
+/// the held world's moving bodies.
+fn floor_of(scene: &str, held: &PhysicsWorld, layer: &ContactLayer) -> PhysicsWorld {
+    let mut f = build(scene).expect("scene");
+    let s = layer.speedups().expect("speed-ups");
+    for (h, rb) in held.bodies.iter() {
+        let Some(fb) = f.bodies.get_mut(h) else {
+            continue;
+        };
+        fb.set_position(*rb.position(), false);
+        *fb.activation_mut() = rb.activation().clone();
+        if s.is_fixated(h) {
+            fb.set_body_type(RigidBodyType::Fixed, false);
+        } else {
+            fb.set_linvel(rb.linvel(), false);
+            fb.set_angvel(rb.angvel(), false);
+        }
+    }
+    f
 }
 
 /// The held world's layer: the speed-ups of [`config`], and the repair monitor with
@@ -137,6 +169,7 @@ fn run(scene: &str, args: &Args) -> Run {
         fixated_end: 0,
         parked_end: 0,
         violations: 0,
+        floor: (0.0, 0.0),
     };
     // Falling and settling: each step timed. The settled tail: batches of `--batch`
     // steps timed as one (a settled step costs about a microsecond, of the order of
@@ -206,6 +239,39 @@ fn run(scene: &str, args: &Args) -> Run {
     ];
     r.fixated_end = layer.speedups().map_or(0, |s| s.fixated().count());
     r.parked_end = layer.speedups().map_or(0, |s| s.stats().parked);
+    // The floor: 100 steps to settle its fresh contacts, then `--tail` steps of each
+    // world in batches of `--batch`, alternating (both are small now).
+    let mut floor = floor_of(scene, &held, &layer);
+    for _ in 0..100 {
+        floor.step();
+    }
+    let (mut th, mut tf) = (0.0, 0.0);
+    let b = args.batch.max(1);
+    for unit in 0..args.tail.div_ceil(b) {
+        let mut held_batch = || {
+            let t = ThreadTime::now();
+            for _ in 0..b {
+                layer.step(&mut held);
+            }
+            t.elapsed().as_secs_f64()
+        };
+        let mut floor_batch = || {
+            let t = ThreadTime::now();
+            for _ in 0..b {
+                floor.step();
+            }
+            t.elapsed().as_secs_f64()
+        };
+        if unit % 2 == 0 {
+            th += held_batch();
+            tf += floor_batch();
+        } else {
+            tf += floor_batch();
+            th += held_batch();
+        }
+    }
+    let steps = (args.tail.div_ceil(b) * b) as f64;
+    r.floor = (th / steps, tf / steps);
     r
 }
 
@@ -290,6 +356,12 @@ fn main() {
             "  settled µs/step         stock {}   held {}",
             us(runs.iter().map(|r| tail(&r.stock)).collect()),
             us(runs.iter().map(|r| tail(&r.held)).collect())
+        );
+        println!(
+            "  after, beside Rapier's floor (held bodies fixed from the start, no layer): held/floor {}   µs/step held {}   floor {}",
+            spread(runs.iter().map(|r| r.floor.0 / r.floor.1).collect()),
+            us(runs.iter().map(|r| r.floor.0).collect()),
+            us(runs.iter().map(|r| r.floor.1).collect())
         );
         let when = |s: Option<usize>| match s {
             Some(i) => format!("{:.2} s", i as f64 * scenes::DT as f64),

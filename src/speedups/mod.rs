@@ -1363,6 +1363,18 @@ impl SpeedUpState {
         self.watch_count(&now, true);
     }
 
+    /// Whether a held body has a remembered supporter that holds it up by itself: one
+    /// that is not a held body and still supports ([`Self::static_support_holds`]).
+    /// O(its supporters).
+    fn holds_alone(&self, graph: &ContactGraph, view: &WorldView, held: &Held) -> bool {
+        held.supports.iter().any(|s| {
+            graph.node(s.node).is_some_and(|node| {
+                !node.body().is_some_and(|h| self.held.contains_key(&key(h)))
+                    && self.static_support_holds(graph, view, node, s)
+            })
+        })
+    }
+
     /// Whether a supporter that is not a held body still supports: static geometry
     /// where it was, a scripted body not moving. (A simulated supporter supports only
     /// through a touching contact now.)
@@ -1530,7 +1542,8 @@ impl SpeedUpState {
         if !(up.is_finite() && up != Vector::ZERO) || keys.is_empty() {
             return;
         }
-        let (supported, resting) = self.judge_support(graph, view, up, &keys, self.held.values());
+        let (supported, resting) =
+            self.judge_support(graph, view, up, &keys, self.held.values(), &BTreeMap::new());
         self.apply_judgement(&keys, &supported, &resting);
     }
 
@@ -1547,6 +1560,7 @@ impl SpeedUpState {
         up: Vector,
         judged: &[(u32, u32)],
         records: impl Iterator<Item = &'h Held>,
+        rests: &BTreeMap<(u32, u32), bool>,
     ) -> (Vec<bool>, Vec<bool>) {
         // Judged bodies by index (keys are sorted: a held supporter is found by binary
         // search); "supporter i holds up dependent j" as pairs, sorted into ranges.
@@ -1561,7 +1575,10 @@ impl SpeedUpState {
             if graph.node_of_body(held.handle).is_none() {
                 continue;
             }
-            let mut base = rests_now(graph, view, held.handle, up);
+            let mut base = match rests.get(&key(held.handle)) {
+                Some(&r) => r,
+                None => rests_now(graph, view, held.handle, up),
+            };
             resting[i] = base;
             for s in &held.supports {
                 if base {
@@ -1608,20 +1625,22 @@ impl SpeedUpState {
     /// Judges the support memory again after touches of held bodies began or ended or
     /// held bodies were released, and nothing else it depends on changed
     /// ([`Self::support_changed`]): only the held bodies whose status those changes
-    /// can change. A held body's status depends on its own contacts and on its
-    /// remembered supporters, so the bodies to judge are `changed` (the held ends of
-    /// the touches), those resting on a contact Rapier computes at the last evaluation
-    /// (such a contact can turn without beginning or ending), the unsupported ones
-    /// (one may rest on something now) and those that remember a released body, with
-    /// everything that remembers one of them as a supporter, transitively. Every other
-    /// held body is supported, as before: its support runs through static supporters
-    /// that did not move and held bodies outside the set. The judged bodies' watched
-    /// supporters are counted again, the released bodies' taken off. The same result
-    /// as [`Self::evaluate_support`], watch included (checked against it after every
-    /// partial evaluation in debug builds). O(the judged bodies × (their contact pairs
-    /// + their entries in the dependents index · log)); the index is built from the
-    /// held records (O(held bodies' supporters · log)) only at the first partial
-    /// judgement after a restore.
+    /// can change. "Supported" is a least fixed point, so this is the delete-and-
+    /// rederive of incremental fixed points: the bodies that may have *lost* their
+    /// support are `changed` (the held ends of the touches), those resting on a
+    /// contact Rapier computes at the last evaluation (such a contact can end without
+    /// a touch ending) and those that remember a released body; they are judged with
+    /// everything that remembers one of them as a supporter, transitively, except
+    /// through a body that has a base of its own now (a computed resting contact, or
+    /// static or scripted support that still holds): that one is supported whatever
+    /// else changed. The unsupported bodies can only *gain* support, and are judged
+    /// too. Every other held body is supported, as before: its support runs through
+    /// bases that did not change and held bodies outside the set. The judged bodies'
+    /// watched supporters are counted again, the released bodies' taken off. The same
+    /// result as [`Self::evaluate_support`], watch included (checked against it after
+    /// every partial evaluation in debug builds). O(the judged bodies × (their contact
+    /// pairs + their entries in the dependents index · log)); the index is kept
+    /// between steps ([`Self::hold`]).
     fn evaluate_support_from(
         &mut self,
         graph: &ContactGraph,
@@ -1644,22 +1663,52 @@ impl SpeedUpState {
         if !self.dependents_ok {
             self.reindex();
         }
-        let mut judged: BTreeSet<(u32, u32)> = changed.into_iter().collect();
-        judged.extend(self.rest_based.iter().copied());
-        judged.extend(self.unsupported.iter().copied());
         let node_of = |k: &(u32, u32)| {
             self.held
                 .get(k)
                 .and_then(|held| graph.node_of_body(held.handle))
         };
-        let mut stack: Vec<NodeId> = judged.iter().filter_map(node_of).collect();
-        stack.extend(released.iter().filter_map(|r| graph.node_of_body(r.handle)));
-        while let Some(n) = stack.pop() {
-            for &(_, d) in self
-                .dependents
+        let dependents_of = |n: NodeId| {
+            self.dependents
                 .range((n, (0, 0))..=(n, (u32::MAX, u32::MAX)))
-            {
-                if judged.insert(d) {
+                .map(|&(_, d)| d)
+        };
+        // Bodies that may have lost their support: the held ends of the touches, those
+        // resting on a computed contact at the last evaluation (it may have ended), and
+        // what remembered a released body.
+        let mut maybe_lost: BTreeSet<(u32, u32)> = changed.into_iter().collect();
+        maybe_lost.extend(self.rest_based.iter().copied());
+        for r in &released {
+            if let Some(n) = graph.node_of_body(r.handle) {
+                maybe_lost.extend(dependents_of(n));
+            }
+        }
+        // Whether a held body rests on a contact Rapier computes now, read once.
+        let mut rests: BTreeMap<(u32, u32), bool> = BTreeMap::new();
+        let mut based = |k: &(u32, u32)| {
+            self.held.get(k).is_some_and(|held| {
+                *rests
+                    .entry(*k)
+                    .or_insert_with(|| rests_now(graph, view, held.handle, up))
+                    || self.holds_alone(graph, view, held)
+            })
+        };
+        // What rests on a body that may have lost its support is judged again with it,
+        // transitively; a body with a base of its own now (a computed resting contact,
+        // static geometry in place, a scripted body at rest) is supported whatever else
+        // changed, so nothing loses its support through it and its dependents are left
+        // out. Unsupported bodies can only gain support: judged, but what rests on
+        // them was supported through something else or is unsupported itself.
+        let mut judged: BTreeSet<(u32, u32)> = maybe_lost.clone();
+        judged.extend(self.unsupported.iter().copied());
+        let mut stack: Vec<NodeId> = maybe_lost
+            .iter()
+            .filter(|k| !based(k))
+            .filter_map(node_of)
+            .collect();
+        while let Some(n) = stack.pop() {
+            for d in dependents_of(n) {
+                if judged.insert(d) && !based(&d) {
                     stack.extend(node_of(&d));
                 }
             }
@@ -1669,7 +1718,7 @@ impl SpeedUpState {
             .filter(|k| self.held.contains_key(k))
             .collect();
         let records = judged.iter().filter_map(|k| self.held.get(k));
-        let (supported, resting) = self.judge_support(graph, view, up, &judged, records);
+        let (supported, resting) = self.judge_support(graph, view, up, &judged, records, &rests);
         self.apply_judgement(&judged, &supported, &resting);
         for k in &judged {
             self.rewatch(graph, k);
