@@ -247,27 +247,25 @@ fn run(scene: &str, args: &Args) -> Run {
     }
     let (mut th, mut tf) = (0.0, 0.0);
     let b = args.batch.max(1);
+    // Thread CPU seconds of `b` calls of `step`.
+    let batch = |step: &mut dyn FnMut()| {
+        let t = ThreadTime::now();
+        for _ in 0..b {
+            step();
+        }
+        t.elapsed().as_secs_f64()
+    };
     for unit in 0..args.tail.div_ceil(b) {
-        let mut held_batch = || {
-            let t = ThreadTime::now();
-            for _ in 0..b {
-                layer.step(&mut held);
-            }
-            t.elapsed().as_secs_f64()
+        let mut held_step = || {
+            layer.step(&mut held);
         };
-        let mut floor_batch = || {
-            let t = ThreadTime::now();
-            for _ in 0..b {
-                floor.step();
-            }
-            t.elapsed().as_secs_f64()
-        };
+        let mut floor_step = || floor.step();
         if unit % 2 == 0 {
-            th += held_batch();
-            tf += floor_batch();
+            th += batch(&mut held_step);
+            tf += batch(&mut floor_step);
         } else {
-            tf += floor_batch();
-            th += held_batch();
+            tf += batch(&mut floor_step);
+            th += batch(&mut held_step);
         }
     }
     let steps = (args.tail.div_ceil(b) * b) as f64;

@@ -273,9 +273,6 @@ pub struct SpeedUpState {
     /// saved: built again from them on restore ([`Self::reindex`]).
     #[cfg_attr(feature = "serde", serde(skip))]
     dependents: std::collections::BTreeSet<(NodeId, (u32, u32))>,
-    /// Whether `dependents` matches the held records.
-    #[cfg_attr(feature = "serde", serde(skip))]
-    dependents_ok: bool,
     /// "Up" at the last evaluation.
     support_up: Vector,
     /// The distinct static (with their pose then) and scripted supporters of the held
@@ -422,7 +419,6 @@ impl SpeedUpState {
             released: Vec::new(),
             newly_held: Vec::new(),
             dependents: Default::default(),
-            dependents_ok: true,
             support_up: Vector::ZERO,
             support_watch: Vec::new(),
             suspend_thinning: false,
@@ -475,7 +471,6 @@ impl SpeedUpState {
             held.give_back(world, user_passive);
         }
         self.dependents.clear();
-        self.dependents_ok = true;
         self.set_modify_flags(world, &[]);
         for (_, (h, original)) in std::mem::take(&mut self.damped) {
             if let Some(rb) = world.bodies.get_mut(h) {
@@ -530,10 +525,8 @@ impl SpeedUpState {
     /// supporters · log).
     fn hold(&mut self, held: Held) {
         let k = key(held.handle);
-        if self.dependents_ok {
-            self.dependents
-                .extend(held.supports.iter().map(|s| (s.node, k)));
-        }
+        self.dependents
+            .extend(held.supports.iter().map(|s| (s.node, k)));
         if let Some(old) = self.held.insert(k, held) {
             self.forget_dependents(k, &old);
         }
@@ -548,21 +541,23 @@ impl SpeedUpState {
     }
 
     /// Builds the indexes left out of snapshots (the dependents index) from the held
-    /// records. O(held bodies' supporters · log).
+    /// records; the restore calls it. O(held bodies' supporters · log).
     pub(crate) fn reindex(&mut self) {
-        self.dependents = self
-            .held
+        self.dependents = self.dependents_of_records();
+    }
+
+    /// The dependents index as the held records give it. O(held bodies' supporters ·
+    /// log).
+    fn dependents_of_records(&self) -> std::collections::BTreeSet<(NodeId, (u32, u32))> {
+        self.held
             .iter()
             .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
-            .collect();
-        self.dependents_ok = true;
+            .collect()
     }
 
     fn forget_dependents(&mut self, k: (u32, u32), held: &Held) {
-        if self.dependents_ok {
-            for s in &held.supports {
-                self.dependents.remove(&(s.node, k));
-            }
+        for s in &held.supports {
+            self.dependents.remove(&(s.node, k));
         }
     }
 
@@ -1660,9 +1655,6 @@ impl SpeedUpState {
             }
             self.watch_count(&r.watched, false);
         }
-        if !self.dependents_ok {
-            self.reindex();
-        }
         let node_of = |k: &(u32, u32)| {
             self.held
                 .get(k)
@@ -1727,12 +1719,11 @@ impl SpeedUpState {
         self.support_up = up;
         #[cfg(debug_assertions)]
         {
-            let index: std::collections::BTreeSet<(NodeId, (u32, u32))> = self
-                .held
-                .iter()
-                .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
-                .collect();
-            debug_assert_eq!(index, self.dependents, "the dependents index is stale");
+            debug_assert_eq!(
+                self.dependents_of_records(),
+                self.dependents,
+                "the dependents index is stale"
+            );
             let mut full = self.clone();
             full.evaluate_support(graph, view, up);
             debug_assert_eq!(
