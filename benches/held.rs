@@ -1,4 +1,4 @@
-//! What held bodies cost (the `speedups` module docs, "Held bodies"): the speed-ups'
+//! What held bodies cost (`docs/ARCHITECTURE.md`, §7 "Held bodies"): the speed-ups'
 //! sleep + subgroup + fixate (with warm start, and optionally the repair monitor)
 //! against stock Rapier on the same piles, stepped in lockstep.
 //!

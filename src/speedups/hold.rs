@@ -1,0 +1,308 @@
+//! Fixate: a sleepy body held immovable (its type made fixed), its release, and the
+//! held records with the dependents index (supporter → held bodies) kept beside them.
+
+use rapier3d::dynamics::RigidBodyType;
+use rapier3d::math::{Pose, Vector};
+use rapier3d::prelude::RigidBodyHandle;
+
+use super::park::Park;
+use super::sleep::{never_activation, remember_activation};
+use super::support::{supporters_now, Supporter};
+use super::{key, SpeedUpState, SpeedUps};
+use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind};
+use crate::logic::hooks::ContactMods;
+use crate::logic::WorldMut;
+use crate::WorldView;
+
+/// A body held by fixation, with what it had before.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct Held {
+    pub(super) handle: RigidBodyHandle,
+    linvel: Vector,
+    angvel: Vector,
+    /// What supported it against gravity when it was fixated (see
+    /// [`SpeedUpState::fixation_supported`]).
+    pub(super) supports: Vec<Supporter>,
+    /// Where it is on the way out of Rapier's active set (see [`Park`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(super) park: Park,
+    /// What it added to the support watch when it was last judged
+    /// ([`SpeedUpState::watch_of`]): taken off again when it is judged anew or
+    /// released.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(super) watched: Vec<(NodeId, Option<Pose>)>,
+}
+
+impl Held {
+    /// Gives the body back to the simulation exactly as it was held: dynamic, with its
+    /// velocities, and enabled again if the layer disabled it for this step (unless
+    /// the user made it passive meanwhile). The body, if it still exists.
+    pub(super) fn give_back<'w>(
+        &self,
+        world: &'w mut WorldMut,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) -> Option<&'w mut rapier3d::dynamics::RigidBody> {
+        let rb = world.bodies.get_mut(self.handle)?;
+        if self.park == Park::Parking && !user_passive(self.handle) {
+            rb.set_enabled(true);
+        }
+        rb.set_body_type(RigidBodyType::Dynamic, true);
+        rb.set_linvel(self.linvel, true);
+        rb.set_angvel(self.angvel, true);
+        Some(rb)
+    }
+}
+
+impl SpeedUpState {
+    /// Records a held body, and its supporters in the dependents index. O(its
+    /// supporters · log).
+    fn hold(&mut self, held: Held) {
+        let k = key(held.handle);
+        self.dependents
+            .extend(held.supports.iter().map(|s| (s.node, k)));
+        if let Some(old) = self.held.insert(k, held) {
+            self.forget_dependents(k, &old);
+        }
+    }
+
+    /// Forgets a held body's record, and its supporters in the dependents index.
+    /// O(its supporters · log).
+    fn unhold(&mut self, k: (u32, u32)) -> Option<Held> {
+        let held = self.held.remove(&k)?;
+        self.forget_dependents(k, &held);
+        Some(held)
+    }
+
+    /// Builds the indexes left out of snapshots (the dependents index) from the held
+    /// records; the restore calls it. O(held bodies' supporters · log).
+    pub(crate) fn reindex(&mut self) {
+        self.dependents = self.dependents_of_records();
+    }
+
+    /// The dependents index as the held records give it. O(held bodies' supporters ·
+    /// log).
+    pub(super) fn dependents_of_records(&self) -> std::collections::BTreeSet<(NodeId, (u32, u32))> {
+        self.held
+            .iter()
+            .flat_map(|(k, held)| held.supports.iter().map(move |s| (s.node, *k)))
+            .collect()
+    }
+
+    /// Takes a held body's supporters out of the dependents index. O(its supporters ·
+    /// log).
+    fn forget_dependents(&mut self, k: (u32, u32), held: &Held) {
+        for s in &held.supports {
+            self.dependents.remove(&(s.node, k));
+        }
+    }
+
+    /// Whether a body is held by fixation. O(log fixated).
+    pub fn is_fixated(&self, h: RigidBodyHandle) -> bool {
+        self.held.contains_key(&key(h))
+    }
+
+    /// The bodies held by fixation, in handle order.
+    pub fn fixated(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.held.values().map(|h| h.handle)
+    }
+
+    /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
+    /// rest count again (not sleepy, not sleep-eligible), so that its group is not put
+    /// back to sleep before it has moved. O(1).
+    pub(crate) fn repair_wake(&mut self, h: RigidBodyHandle, mods: &mut ContactMods) {
+        if self.is_fixated(h) && !self.to_release.contains(&h) {
+            self.to_release.push(h);
+            self.stats.releases = self.stats.releases.saturating_add(1);
+        }
+        self.to_fix.retain(|(f, _)| *f != h);
+        let r = self.rest_mut(h);
+        r.steps = 0;
+        let was_sleepy = std::mem::replace(&mut r.sleepy, false);
+        let was_eligible = std::mem::replace(&mut r.eligible, false);
+        if was_sleepy {
+            mods.set_sleepy(h, false);
+            self.zero_flags.push((h, false));
+        }
+        if was_eligible {
+            self.eligibility.push((h, false));
+        }
+    }
+
+    /// The bodies the next pre-step releases from fixation. O(1).
+    pub(crate) fn pending_releases(&self) -> &[RigidBodyHandle] {
+        &self.to_release
+    }
+
+    /// Releases the held bodies the user joined to a multibody as a link since they
+    /// were fixated: a held body is fixed in Rapier, and Rapier asserts that a
+    /// multibody's links other than the root are dynamic. O(held bodies), only while
+    /// the world has a multibody.
+    pub(super) fn release_links(&mut self, world: &WorldMut) {
+        // A held body is fixed in Rapier, and Rapier asserts that a multibody's links
+        // other than the root are dynamic: one the user joined to a multibody as a
+        // link since it was fixated is released now, before Rapier's step.
+        if !self.held.is_empty() && world.multibody_joints.multibodies().next().is_some() {
+            for held in self.held.values() {
+                let link = world.multibody_joints.rigid_body_link(held.handle);
+                if link.is_some_and(|l| l.id != 0) && !self.to_release.contains(&held.handle) {
+                    self.to_release.push(held.handle);
+                    self.stats.releases = self.stats.releases.saturating_add(1);
+                }
+            }
+        }
+    }
+
+    /// Applies the queued releases: each body given back as it was held, never
+    /// sleep-eligible, its rest count started again. O(releases · log held).
+    pub(super) fn apply_releases(
+        &mut self,
+        world: &mut WorldMut,
+        mods: &mut ContactMods,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) {
+        self.hold_changes.clear();
+        for h in std::mem::take(&mut self.to_release) {
+            if let Some(held) = self.unhold(key(h)) {
+                self.hold_changes.push((h, true));
+                self.unparked.remove(&key(h));
+                if let Some(rb) = held.give_back(world, user_passive) {
+                    remember_activation(&mut self.activations, h, rb);
+                    never_activation(rb.activation_mut());
+                }
+                self.released.push(held);
+                let r = self.rest_mut(h);
+                r.steps = 0;
+                r.sleepy = false;
+                r.eligible = false;
+                mods.set_sleepy(h, false);
+            }
+        }
+    }
+
+    /// Applies the queued fixations to the bodies that can still be held: each one's
+    /// velocities recorded, its type made fixed. O(fixations · log held).
+    pub(super) fn apply_fixations(&mut self, world: &mut WorldMut) {
+        for (h, supports) in std::mem::take(&mut self.to_fix) {
+            let Some(rb) = world.bodies.get_mut(h) else {
+                continue;
+            };
+            // Checked again now: the fixation was decided at the last analysis, and the
+            // user may have changed the body since. A multibody member is never fixated
+            // (a link must stay dynamic: Rapier asserts it; `decide` skips `Link` nodes
+            // already), nor a disabled (passive) body.
+            if !rb.is_dynamic()
+                || !rb.is_enabled()
+                || world.multibody_joints.rigid_body_link(h).is_some()
+            {
+                continue;
+            }
+            let held = Held {
+                handle: h,
+                linvel: rb.linvel(),
+                angvel: rb.angvel(),
+                supports,
+                park: Park::Active,
+                watched: Vec::new(),
+            };
+            rb.set_body_type(RigidBodyType::Fixed, false);
+            self.hold(held);
+            self.unparked.insert(key(h));
+            self.newly_held.push(key(h));
+            self.hold_changes.push((h, false));
+        }
+    }
+
+    /// Forgets the bodies removed while held, and counts the held and parked bodies.
+    /// O(held) when the body count changed, else O(1).
+    pub(super) fn forget_removed(&mut self, world: &WorldMut, counts_changed: bool) {
+        // Bodies removed while held are forgotten: looked for when the body count
+        // changed (O(held)); a body removed and another inserted between two steps
+        // leaves a stale entry until the count changes, which is harmless (handles
+        // carry their generation, and every use of a held handle checks it exists).
+        self.stats.parked = self.held.len().saturating_sub(self.unparked.len());
+        if !counts_changed {
+            self.stats.fixated = self.held.len();
+            return;
+        }
+        let gone: Vec<(u32, u32)> = self
+            .held
+            .iter()
+            .filter(|(_, h)| !world.bodies.contains(h.handle))
+            .map(|(k, _)| *k)
+            .collect();
+        for k in gone {
+            self.unhold(k);
+            self.unparked.remove(&k);
+            self.support_dirty = true;
+        }
+        self.stats.fixated = self.held.len();
+    }
+
+    /// Queues the release of every held body that a fast body that is not sleepy
+    /// touches. O(refreshed bodies + fast bodies' contacts), nothing while nothing is
+    /// held.
+    pub(super) fn decide_releases(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        refreshed: &[NodeId],
+        c: &SpeedUps,
+    ) {
+        // Release: a fast, non-sleepy body touching a held one (none to look for
+        // while nothing is held).
+        for &n in refreshed.iter().filter(|_| !self.held.is_empty()) {
+            let Some(node) = graph.node(n) else { continue };
+            if !node.kind().is_simulated() || !node.is_awake() {
+                continue;
+            }
+            let Some(h) = node.body() else { continue };
+            if self.is_sleepy(h) {
+                continue;
+            }
+            let Some(rb) = view.bodies.get(h) else {
+                continue;
+            };
+            if rb.linvel().length() <= c.release_speed {
+                continue;
+            }
+            for (m, _, e) in graph.neighbors(n) {
+                if e.kind() != EdgeKind::Physical || !e.is_touching() {
+                    continue;
+                }
+                if let Some(mh) = graph.body_of(m) {
+                    if self.is_fixated(mh) && !self.to_release.contains(&mh) {
+                        self.to_release.push(mh);
+                        self.stats.releases = self.stats.releases.saturating_add(1);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Queues the fixation of every sleepy awake dynamic body that is not held yet,
+    /// with what holds it up now (`up` against gravity). O(refreshed bodies + sleepy
+    /// bodies' contact pairs).
+    pub(super) fn decide_fixations(
+        &mut self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        refreshed: &[NodeId],
+        up: Vector,
+    ) {
+        // Fixate: every sleepy awake simulated body, with what holds it up now.
+        let mut found = Vec::new();
+        for &n in refreshed {
+            let Some(node) = graph.node(n) else { continue };
+            if node.kind() != NodeKind::Dynamic || !node.is_awake() {
+                continue;
+            }
+            let Some(h) = node.body() else { continue };
+            if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
+                let supports = supporters_now(graph, view, n, up, &mut found);
+                self.to_fix.push((h, supports));
+                self.stats.fixations = self.stats.fixations.saturating_add(1);
+            }
+        }
+    }
+}
