@@ -10,7 +10,7 @@
 //!   recycling, no sleep;
 //! - each `--config` (default: `------F`, fixation alone, and `C----SF`,
 //!   `SpeedUps::reliable_sleep()`: the fastest configurations with no violation in the
-//!   README's table): `ContactLayer::step` with those speed-ups.
+//!   DIKU table of `docs/results.md`): `ContactLayer::step` with those speed-ups.
 //!
 //! The **moving-bodies-only limit** of a world is what its steps would cost if each
 //! body Rapier integrates cost what it costs stock Rapier: per simulated second,

@@ -1,5 +1,5 @@
 //! What observing costs: the contact-graph layer, observe-only, against plain Rapier on
-//! the same pile (the README's "Overhead of the observe-only layer").
+//! the same pile (`docs/results.md`, "Overhead of the observe-only layer").
 //!
 //! For each scene and size two identical worlds are built and stepped in lockstep:
 //! - *plain*: `world.step()` only;

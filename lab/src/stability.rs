@@ -27,8 +27,8 @@
 //! | `gravity_change` | stock, sleepy | every kind of sleep: the spheres hang (not reported: see below) |
 //! | `static_moved` | stock, sleepy, fixate | fixate only: the boxes stay in the air (not reported: see below) |
 //!
-//! The measured table, with the reading of each row, is in the README ("Where the
-//! speed-ups fail — measured"); `cargo lab stability` prints it.
+//! The measured table, with the reading of each row, is in `docs/results.md`
+//! ("Stability suite: where the speed-ups fail"); `cargo lab stability` prints it.
 //!
 //! # How a failure is attributed: target, control, base
 //! A scene "fails under" a target when the target's run shows the failure *and the same

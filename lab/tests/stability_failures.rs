@@ -335,7 +335,7 @@ fn run_repaired(case: &StabilityCase, spec: &RunSpec) -> Violations {
 }
 
 /// The scenes where an impact makes a contact deep within one step, which repair
-/// (acting between steps) does not always prevent: measured, see the README.
+/// (acting between steps) does not always prevent: measured, see `docs/results.md`.
 const DEEP_IN_ONE_STEP: [&str; 3] = ["fixated_pile", "seesaw", "removed_support"];
 
 /// With the monitor repairing, every failure each scene was built for is gone under its

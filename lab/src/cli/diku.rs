@@ -96,7 +96,7 @@ fn positive(s: &str) -> Result<usize, String> {
     }
 }
 
-/// The 8 combinations of `quick` (and of the README's table): cache, tweak, damp,
+/// The 8 combinations of `quick` (and of the table in `docs/results.md`): cache, tweak, damp,
 /// subgroup + fixate, `C----SF`, the paper's ♠ `C--ZDSF`, `CT-ZDSF`, and all seven.
 pub const NAMED_COMBINATIONS: [u8; 8] = [
     0b000_0001, 0b000_0010, 0b001_0000, 0b110_0000, 0b110_0001, 0b111_1001, 0b111_1011, 127,
