@@ -174,7 +174,7 @@ use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 /// tracking as the default); format 4 adds the speed-ups' partial support judgement
 /// (the bodies resting on computed contacts, each held body's watched supporters with
 /// the watch's counts, the records of bodies released since the last judgement).
-pub const SNAPSHOT_FORMAT: u32 = 4;
+pub const SNAPSHOT_FORMAT: u32 = 5;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");

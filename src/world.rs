@@ -11,8 +11,8 @@
 
 use rapier3d::math::Vector;
 use rapier3d::prelude::{
-    ColliderSet, ImpulseJointSet, IslandManager, MultibodyJointSet, NarrowPhase, PhysicsWorld,
-    RigidBodyHandle, RigidBodySet,
+    BroadPhaseBvh, ColliderSet, ImpulseJointSet, IslandManager, MultibodyJointSet, NarrowPhase,
+    PhysicsWorld, RigidBodyHandle, RigidBodySet,
 };
 
 /// Borrowed parts of a Rapier world, read after a step.
@@ -28,6 +28,10 @@ pub struct WorldView<'a> {
     pub colliders: &'a ColliderSet,
     /// The narrow phase (its contact pairs become physical edges).
     pub narrow_phase: &'a NarrowPhase,
+    /// The broad phase, if at hand: the speed-ups ask it which held bodies a moving
+    /// body is about to reach ([`crate::speedups::SpeedUps::release_speed`]); without
+    /// it they release only the held bodies a moving body already touches.
+    pub broad_phase: Option<&'a BroadPhaseBvh>,
     /// Islands (the active set tells which bodies are awake).
     pub islands: &'a IslandManager,
     /// Impulse joints.
@@ -48,6 +52,7 @@ impl<'a> From<&'a PhysicsWorld> for WorldView<'a> {
             bodies: &w.bodies,
             colliders: &w.colliders,
             narrow_phase: &w.narrow_phase,
+            broad_phase: Some(&w.broad_phase),
             islands: &w.islands,
             impulse_joints: &w.impulse_joints,
             multibody_joints: &w.multibody_joints,

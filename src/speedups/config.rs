@@ -61,9 +61,14 @@ pub struct SpeedUps {
     pub reduce_depth: f32,
     /// Linear damping coefficient of `damp`, 1/s. Default 0.5.
     pub damping: f32,
-    /// A fixated body is released when a touching body that is not sleepy moves
-    /// faster than this, m/s. Default 0.5.
+    /// A fixated body is released when a body that is not sleepy and moves faster
+    /// than this, or a moving kinematic body, is about to reach it, m/s. Default 0.5.
     pub release_speed: f32,
+    /// A release reaches the whole held part of the released body's contact group
+    /// (every held body it touched when held, or that touched it, transitively), as a
+    /// sleeping Rapier island wakes whole; off, only the bodies reached are released.
+    /// Default on.
+    pub release_group: bool,
 }
 
 impl Default for SpeedUps {
@@ -100,6 +105,7 @@ impl SpeedUps {
             reduce_depth: 0.005,
             damping: 0.5,
             release_speed: 0.5,
+            release_group: true,
         }
     }
 

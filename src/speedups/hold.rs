@@ -8,8 +8,8 @@ use rapier3d::prelude::RigidBodyHandle;
 use super::park::Park;
 use super::sleep::{never_activation, remember_activation};
 use super::support::{supporters_now, Supporter};
-use super::{key, SpeedUpState, SpeedUps};
-use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind};
+use super::{key, SpeedUpState};
+use crate::graph::{ContactGraph, NodeId, NodeKind};
 use crate::logic::hooks::ContactMods;
 use crate::logic::WorldMut;
 use crate::WorldView;
@@ -32,12 +32,29 @@ pub(super) struct Held {
     /// released.
     #[cfg_attr(feature = "serde", serde(default))]
     pub(super) watched: Vec<(NodeId, Option<Pose>)>,
+    /// The bodies it touched when it was fixated (dynamic or held), in handle order:
+    /// a release of one reaches the other ([`super::SpeedUps::release_group`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(super) links: Vec<RigidBodyHandle>,
+}
+
+/// A fixation decided at the analysis, applied at the next pre-step.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct ToFix {
+    pub(super) handle: RigidBodyHandle,
+    /// What holds it up now.
+    supports: Vec<Supporter>,
+    /// What it touches now (see [`Held::links`]).
+    links: Vec<RigidBodyHandle>,
 }
 
 impl Held {
     /// Gives the body back to the simulation exactly as it was held: dynamic, with its
     /// velocities, and enabled again if the layer disabled it for this step (unless
-    /// the user made it passive meanwhile). The body, if it still exists.
+    /// the user made it passive meanwhile). A body the user gave another type
+    /// meanwhile keeps the type and velocities the user set. The body, if it still
+    /// exists.
     pub(super) fn give_back<'w>(
         &self,
         world: &'w mut WorldMut,
@@ -47,9 +64,11 @@ impl Held {
         if self.park == Park::Parking && !user_passive(self.handle) {
             rb.set_enabled(true);
         }
-        rb.set_body_type(RigidBodyType::Dynamic, true);
-        rb.set_linvel(self.linvel, true);
-        rb.set_angvel(self.angvel, true);
+        if rb.is_fixed() {
+            rb.set_body_type(RigidBodyType::Dynamic, true);
+            rb.set_linvel(self.linvel, true);
+            rb.set_angvel(self.angvel, true);
+        }
         Some(rb)
     }
 }
@@ -61,6 +80,7 @@ impl SpeedUpState {
         let k = key(held.handle);
         self.dependents
             .extend(held.supports.iter().map(|s| (s.node, k)));
+        self.linked.extend(held.links.iter().map(|&l| (key(l), k)));
         if let Some(old) = self.held.insert(k, held) {
             self.forget_dependents(k, &old);
         }
@@ -74,10 +94,16 @@ impl SpeedUpState {
         Some(held)
     }
 
-    /// Builds the indexes left out of snapshots (the dependents index) from the held
-    /// records; the restore calls it. O(held bodies' supporters · log).
+    /// Builds the indexes left out of snapshots (the dependents and links indexes)
+    /// from the held records; the restore calls it. O(held bodies' supporters and
+    /// links · log).
     pub(crate) fn reindex(&mut self) {
         self.dependents = self.dependents_of_records();
+        self.linked = self
+            .held
+            .iter()
+            .flat_map(|(k, held)| held.links.iter().map(move |&l| (key(l), *k)))
+            .collect();
     }
 
     /// The dependents index as the held records give it. O(held bodies' supporters ·
@@ -94,6 +120,9 @@ impl SpeedUpState {
     fn forget_dependents(&mut self, k: (u32, u32), held: &Held) {
         for s in &held.supports {
             self.dependents.remove(&(s.node, k));
+        }
+        for &l in &held.links {
+            self.linked.remove(&(key(l), k));
         }
     }
 
@@ -115,7 +144,7 @@ impl SpeedUpState {
             self.to_release.push(h);
             self.stats.releases = self.stats.releases.saturating_add(1);
         }
-        self.to_fix.retain(|(f, _)| *f != h);
+        self.to_fix.retain(|f| f.handle != h);
         let r = self.rest_mut(h);
         r.steps = 0;
         let was_sleepy = std::mem::replace(&mut r.sleepy, false);
@@ -167,8 +196,10 @@ impl SpeedUpState {
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
                 if let Some(rb) = held.give_back(world, user_passive) {
-                    remember_activation(&mut self.activations, h, rb);
-                    never_activation(rb.activation_mut());
+                    if rb.is_dynamic() {
+                        remember_activation(&mut self.activations, h, rb);
+                        never_activation(rb.activation_mut());
+                    }
                 }
                 self.released.push(held);
                 let r = self.rest_mut(h);
@@ -183,7 +214,12 @@ impl SpeedUpState {
     /// Applies the queued fixations to the bodies that can still be held: each one's
     /// velocities recorded, its type made fixed. O(fixations · log held).
     pub(super) fn apply_fixations(&mut self, world: &mut WorldMut) {
-        for (h, supports) in std::mem::take(&mut self.to_fix) {
+        for ToFix {
+            handle: h,
+            supports,
+            links,
+        } in std::mem::take(&mut self.to_fix)
+        {
             let Some(rb) = world.bodies.get_mut(h) else {
                 continue;
             };
@@ -204,6 +240,7 @@ impl SpeedUpState {
                 supports,
                 park: Park::Active,
                 watched: Vec::new(),
+                links,
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
             self.hold(held);
@@ -239,47 +276,6 @@ impl SpeedUpState {
         self.stats.fixated = self.held.len();
     }
 
-    /// Queues the release of every held body that a fast body that is not sleepy
-    /// touches. O(refreshed bodies + fast bodies' contacts), nothing while nothing is
-    /// held.
-    pub(super) fn decide_releases(
-        &mut self,
-        graph: &ContactGraph,
-        view: &WorldView,
-        refreshed: &[NodeId],
-        c: &SpeedUps,
-    ) {
-        // Release: a fast, non-sleepy body touching a held one (none to look for
-        // while nothing is held).
-        for &n in refreshed.iter().filter(|_| !self.held.is_empty()) {
-            let Some(node) = graph.node(n) else { continue };
-            if !node.kind().is_simulated() || !node.is_awake() {
-                continue;
-            }
-            let Some(h) = node.body() else { continue };
-            if self.is_sleepy(h) {
-                continue;
-            }
-            let Some(rb) = view.bodies.get(h) else {
-                continue;
-            };
-            if rb.linvel().length() <= c.release_speed {
-                continue;
-            }
-            for (m, _, e) in graph.neighbors(n) {
-                if e.kind() != EdgeKind::Physical || !e.is_touching() {
-                    continue;
-                }
-                if let Some(mh) = graph.body_of(m) {
-                    if self.is_fixated(mh) && !self.to_release.contains(&mh) {
-                        self.to_release.push(mh);
-                        self.stats.releases = self.stats.releases.saturating_add(1);
-                    }
-                }
-            }
-        }
-    }
-
     /// Queues the fixation of every sleepy awake dynamic body that is not held yet,
     /// with what holds it up now (`up` against gravity). O(refreshed bodies + sleepy
     /// bodies' contact pairs).
@@ -300,7 +296,12 @@ impl SpeedUpState {
             let Some(h) = node.body() else { continue };
             if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
                 let supports = supporters_now(graph, view, n, up, &mut found);
-                self.to_fix.push((h, supports));
+                let links = self.links_now(graph, n);
+                self.to_fix.push(ToFix {
+                    handle: h,
+                    supports,
+                    links,
+                });
                 self.stats.fixations = self.stats.fixations.saturating_add(1);
             }
         }

@@ -35,6 +35,7 @@ impl SpeedUpState {
             released: Vec::new(),
             newly_held: Vec::new(),
             dependents: Default::default(),
+            linked: Default::default(),
             support_up: Vector::ZERO,
             support_watch: Vec::new(),
             suspend_thinning: false,
@@ -85,6 +86,7 @@ impl SpeedUpState {
             held.give_back(world, user_passive);
         }
         self.dependents.clear();
+        self.linked.clear();
         self.set_modify_flags(world, &[]);
         self.undamp(world);
         // The user's own sleep thresholds and solver parameters, as they were.

@@ -30,6 +30,7 @@ mod config;
 mod hold; // fixation: held records, fixate and release decisions, their application
 mod lifecycle; // new, reconfigure, detach, and the restore of the user's world
 mod park; // held bodies taken out of Rapier's active set
+mod release; // what releases a held body, and how far a release reaches
 mod sleep; // rest tracking, sleep-eligibility
 mod solver; // solver parameters, damping, contact-modification flags
 mod step; // the pre-step and the decisions as sequences of phases
@@ -48,7 +49,6 @@ use crate::graph::NodeId;
 
 use hold::Held;
 use sleep::Rest;
-use support::Supporter;
 
 /// Counters of the speed-ups' work in the last step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -79,7 +79,7 @@ pub struct SpeedUpState {
     /// Eligibility changes to write in the pre-step.
     eligibility: Vec<(RigidBodyHandle, bool)>,
     /// Fixations and releases to apply in the pre-step.
-    to_fix: Vec<(RigidBodyHandle, Vec<Supporter>)>,
+    to_fix: Vec<hold::ToFix>,
     to_release: Vec<RigidBodyHandle>,
     /// Held bodies to take out of Rapier's active set in the pre-step (see
     /// [`Self::park`]).
@@ -129,6 +129,11 @@ pub struct SpeedUpState {
     /// saved: built again from them on restore ([`Self::reindex`]).
     #[cfg_attr(feature = "serde", serde(skip))]
     dependents: std::collections::BTreeSet<(NodeId, (u32, u32))>,
+    /// "Body → the held bodies that touched it when they were held", as (body key,
+    /// held key) pairs: the reverse of [`Held::links`], kept in step with every hold
+    /// and release, so that a release spreads both ways. Derived, so not saved.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    linked: std::collections::BTreeSet<((u32, u32), (u32, u32))>,
     /// "Up" at the last evaluation.
     support_up: Vector,
     /// The distinct static (with their pose then) and scripted supporters of the held

@@ -35,6 +35,7 @@ impl SpeedUpState {
         self.sort_decisions();
         self.write_eligibility(world);
         self.release_links(world);
+        self.spread_releases();
         self.apply_releases(world, mods, user_passive);
         self.apply_fixations(world);
         self.park(world, user_passive);
@@ -50,7 +51,7 @@ impl SpeedUpState {
     fn sort_decisions(&mut self) {
         self.eligibility.sort_by_key(|(h, _)| key(*h));
         self.to_release.sort_by_key(|h| key(*h));
-        self.to_fix.sort_by_key(|(h, _)| key(*h));
+        self.to_fix.sort_by_key(|f| key(f.handle));
     }
 
     /// Decides sleep eligibility and fixation after the groups were rebuilt.
@@ -94,7 +95,8 @@ impl SpeedUpState {
         }
         if c.fixate {
             let up = up_of(view.gravity);
-            self.decide_releases(graph, view, refreshed, &c);
+            self.yield_to_owner(graph, view, refreshed);
+            self.release_reached(graph, view, refreshed);
             self.decide_fixations(graph, view, refreshed, up);
             self.decide_support(graph, view, up, changes);
         }

@@ -164,6 +164,7 @@ impl SpeedUpState {
             }
         }
         self.newly_held.clear();
+        self.release_unsupported();
         self.choose_parking(view);
     }
 
