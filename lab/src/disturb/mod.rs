@@ -8,7 +8,7 @@
 //! how fast, the pile's centre height and horizontal spread, the kinetic energy left,
 //! the awake and held bodies, the monitor's violations and the step times. [`judge`]
 //! pairs runs with the reference on the same seeds, as the DIKU run does
-//! ([`crate::accuracy`]).
+//! ([`crate::accuracy`]); definitions in `docs/disturb.md`.
 //!
 //! Cost: one run is O(steps · Rapier's step); the observables on top are O(boxes)
 //! twice, and the untimed monitor O(awake bodies) a step.

@@ -15,11 +15,11 @@ use crate::stability::ground;
 use crate::{new_world, Scene};
 
 /// The paddle's half extents (thin along `x`), m.
-pub const HALF: Vector = Vector::new(0.05, 0.35, 1.5);
+pub const HALF: Vector = Vector::new(0.05, 0.35, 0.6);
 /// The paddle's speed, m/s.
 pub const SPEED: Real = 1.0;
-/// How long it moves, s (it stops 1.5 m into the bin).
-pub const DURATION: Real = 1.5;
+/// How long it moves, s (it stops 1.2 m into the bin).
+pub const DURATION: Real = 1.2;
 /// The strip along the `-x` wall left free of boxes, m.
 pub const CLEARANCE: Real = 0.3;
 
