@@ -38,7 +38,7 @@ use crate::measure::Mode;
 use crate::measure::RunSpec;
 
 /// The laboratory of rapier-contact-graph: the DIKU speed-versus-accuracy run, the
-/// stability suite and frames of a scene.
+/// disturbed piles, the stability suite and frames of a scene.
 #[derive(Debug, Parser)]
 #[command(name = "rcg-lab", version, about, long_about = None)]
 pub struct Cli {
