@@ -9,10 +9,13 @@
 //! - [`report`]: charts of speed against accuracy with the Pareto front (plotters, SVG
 //!   and PNG), and frames of a scene: Rapier's debug render coloured by body state
 //!   (paper Fig. 17; tiny-skia, PNG);
+//! - [`disturb`]: settled piles disturbed (a thrown ball, a removed floor segment, a
+//!   paddle), judged on paired seeds against a reference without sleep;
 //! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
 //!   the switch it is built against, its control run and its reference;
 //! - [`cli`]: the runners as subcommands of the one binary, `rcg-lab` (clap,
-//!   indicatif, csv): `cargo lab diku`, `cargo lab stability`, `cargo lab frames`.
+//!   indicatif, csv): `cargo lab diku`, `cargo lab disturb`, `cargo lab stability`,
+//!   `cargo lab frames`.
 //!
 //! The scenes live in `rcg-scenes`, shared with the plugin's tests and benchmarks. Not
 //! published.
@@ -21,6 +24,7 @@
 
 pub mod accuracy;
 pub mod cli;
+pub mod disturb;
 pub mod measure;
 pub mod report;
 pub mod stability;

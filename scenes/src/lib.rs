@@ -18,6 +18,9 @@
 //! scene twice gives bit-identical worlds: the only randomness is the seeded generator
 //! of [`sphere_pile`], and no hash-map order is involved.
 //!
+//! [`disturb`] holds the disturbance scenes: a settled box pile, then a ball thrown
+//! in, a floor segment removed or a paddle swept through, at a given step.
+//!
 //! [`stability`] holds the stability suite's scenes: built to make the
 //! speed-ups fail, each with what it is built against and what it was measured to fail
 //! under. One of them starts with gravity off ([`stability::gravity_change`]), and
@@ -28,6 +31,7 @@ use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle};
 pub mod ball_on_box;
 pub mod box_pile;
 pub mod diku;
+pub mod disturb;
 mod jitter;
 pub mod kinematic_platform;
 pub mod pendulum;

@@ -3,6 +3,7 @@
 //! ```text
 //! cargo lab diku [--spheres N] [--configs default|all|quick|LIST] [--steps K] [--seed S]
 //!                [--seeds K] [--screen-seeds M] [--full] [--out DIR]
+//! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--quick] [--out DIR]
 //! cargo lab stability [--configs all|quick|LIST] [--scenes all|LIST] [--repair] [--out DIR]
 //! cargo lab frames [--out DIR] [--every K] [--steps N] [--view side|tilted] [--size WxH] [--repair]
 //! ```
@@ -23,6 +24,7 @@
 //!   written) are printed as `error: ...` with exit code 1.
 
 pub mod diku;
+pub mod disturb;
 pub mod frames;
 pub mod stability;
 
@@ -36,7 +38,7 @@ use crate::measure::Mode;
 use crate::measure::RunSpec;
 
 /// The laboratory of rapier-contact-graph: the DIKU speed-versus-accuracy run, the
-/// stability suite and frames of a scene.
+/// disturbed piles, the stability suite and frames of a scene.
 #[derive(Debug, Parser)]
 #[command(name = "rcg-lab", version, about, long_about = None)]
 pub struct Cli {
@@ -51,6 +53,9 @@ pub enum Command {
     /// The DIKU scene under every configuration: speed against accuracy on paired
     /// seed ensembles, table, CSV and chart (paper §7; issue 11).
     Diku(diku::Args),
+    /// Settled piles disturbed (thrown ball, removed support, paddle) under the
+    /// reference, stock Rapier and the sleep presets, judged on paired seeds.
+    Disturb(disturb::Args),
     /// The stability suite: every scene under the configurations, violations and
     /// deviation per scene, and whether each target's failure shows.
     Stability(stability::Args),
@@ -65,6 +70,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Diku(args) => diku::run(&args),
+        Command::Disturb(args) => disturb::run(&args),
         Command::Stability(args) => stability::run(&args),
         Command::Frames(args) => frames::run(&args),
     };

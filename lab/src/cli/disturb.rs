@@ -1,0 +1,313 @@
+//! `rcg-lab disturb`: settled piles disturbed (a thrown ball, a removed floor segment,
+//! a sweeping paddle) under the reference, stock Rapier and the layer's sleep presets,
+//! judged on paired seeds against the reference ([`crate::disturb`]).
+//!
+//! ```text
+//! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--seed S]
+//!                   [--at STEP] [--after STEPS] [--quick] [--out DIR]
+//! ```
+//! Per scene and seed: the reference (Rapier's defaults, sleep off), its two
+//! refinements (8 solver iterations; half the time step), then stock Rapier, the
+//! layer with `SpeedUps::default()`, `reliable_sleep()`, `reliable_sleep()` with the
+//! monitor repairing, and `papers_fastest()`. Prints per scene a table of each
+//! observable's mean over seeds and, per configuration, its paired difference from
+//! the reference with the 95 % interval's half width and the verdict (`=` equivalent,
+//! `+`/`-` differs upwards/downwards, `?` undecided, `!` not finite). Writes
+//! `runs.csv` (one row per run) and `results.csv` (one row per scene, configuration
+//! and observable) into `DIR` (default `target/disturb`). `--quick` (CI): 3 seeds,
+//! 150 boxes. Runs are sequential: the step times are of one core.
+
+use std::path::PathBuf;
+
+use rcg_scenes::disturb::DisturbParams;
+
+use crate::disturb::judge::{judge, tolerances, Comparison, Verdict};
+use crate::disturb::{self, configs, reference, refinements, Builder, Config, Outcome};
+use crate::disturb::{COUNT, OBSERVABLES, SCENES};
+
+/// Options of `rcg-lab disturb`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenes: `all` or a comma list of thrown_ball, support_removed, paddle.
+    #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_scenes)]
+    pub scenes: Scenes,
+    /// Boxes in each pile (default 250; 150 with --quick).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub boxes: Option<u64>,
+    /// Paired seeds S, S+1, ... (at least 2; default 8; 3 with --quick).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(2..=1000))]
+    pub seeds: Option<u64>,
+    /// The first seed.
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// The disturbance step (settling before it; steps of 0.01 s).
+    #[arg(long, value_name = "STEP", default_value_t = 300, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub at: u64,
+    /// Steps run after the disturbance.
+    #[arg(long, value_name = "STEPS", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub after: u64,
+    /// The CI settings: 3 seeds and 150 boxes unless given.
+    #[arg(long)]
+    pub quick: bool,
+    /// Directory for runs.csv and results.csv.
+    #[arg(long, value_name = "DIR", default_value = "target/disturb")]
+    pub out: PathBuf,
+}
+
+/// The scenes to run, by name, in report order.
+#[derive(Clone, Debug)]
+pub struct Scenes(pub Vec<(&'static str, Builder)>);
+
+/// The scenes of a `--scenes` value; unknown names and an empty list are errors.
+pub fn parse_scenes(list: &str) -> Result<Scenes, String> {
+    if list == "all" {
+        return Ok(Scenes(SCENES.to_vec()));
+    }
+    let mut out = Vec::new();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let found = SCENES
+            .iter()
+            .find(|(n, _)| *n == item)
+            .ok_or(format!("unknown scene `{item}`"))?;
+        if !out.iter().any(|(n, _): &(&str, Builder)| *n == found.0) {
+            out.push(*found);
+        }
+    }
+    if out.is_empty() {
+        return Err("no scene given".into());
+    }
+    Ok(Scenes(out))
+}
+
+impl Args {
+    /// The number of boxes and seeds after `--quick`.
+    pub fn sizes(&self) -> (usize, u64) {
+        let (boxes, seeds) = if self.quick { (150, 3) } else { (250, 8) };
+        (
+            self.boxes.map_or(boxes, |b| b as usize),
+            self.seeds.unwrap_or(seeds),
+        )
+    }
+}
+
+/// One configuration's runs on one scene.
+struct Ensemble {
+    config: Config,
+    outcomes: Vec<Outcome>,
+    held_at: Vec<usize>,
+}
+
+/// The columns of `runs.csv` before the observables.
+pub const RUNS_HEADER: [&str; 5] = [
+    "scene",
+    "configuration",
+    "seed",
+    "boxes",
+    "held_at_disturbance",
+];
+/// The columns of `results.csv`.
+pub const RESULTS_HEADER: [&str; 11] = [
+    "scene",
+    "configuration",
+    "observable",
+    "unit",
+    "mean",
+    "reference_mean",
+    "diff",
+    "diff_lo",
+    "diff_hi",
+    "tolerance",
+    "verdict",
+];
+
+/// Runs the disturbance scenes: tables on standard output, CSV files in `--out`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let (boxes, k) = args.sizes();
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    let mut all: Vec<Config> = vec![reference()];
+    all.extend(refinements());
+    all.extend(configs());
+    let bar = super::progress(args.scenes.0.len() * all.len() * k as usize);
+    let mut runs_rows = Vec::new();
+    let mut results_rows = Vec::new();
+    let started = std::time::Instant::now();
+    for &(scene, build) in &args.scenes.0 {
+        let mut ensembles: Vec<Ensemble> = Vec::new();
+        for config in &all {
+            let mut e = Ensemble {
+                config: config.clone(),
+                outcomes: Vec::new(),
+                held_at: Vec::new(),
+            };
+            for seed in args.seed..args.seed + k {
+                bar.set_message(format!("{scene} {}", config.short));
+                let params = DisturbParams {
+                    boxes,
+                    seed,
+                    at: args.at,
+                    after: args.after,
+                };
+                let r = disturb::run(config, build, &params)?;
+                let mut row = vec![
+                    scene.to_string(),
+                    config.name.to_string(),
+                    seed.to_string(),
+                    boxes.to_string(),
+                    r.held_at_disturbance.to_string(),
+                ];
+                row.extend(r.outcome.iter().map(|v| v.to_string()));
+                runs_rows.push(row);
+                e.outcomes.push(r.outcome);
+                e.held_at.push(r.held_at_disturbance);
+                bar.inc(1);
+            }
+            ensembles.push(e);
+        }
+        let reference = &ensembles[0].outcomes;
+        let refined: Vec<&[Outcome]> = ensembles[1..3].iter().map(|e| &e.outcomes[..]).collect();
+        let tol = tolerances(&refined, reference).map_err(|e| e.to_string())?;
+        let mut judged = Vec::new();
+        for e in &ensembles {
+            let c = judge(&e.outcomes, reference, &tol).map_err(|e| e.to_string())?;
+            for (j, cmp) in c.iter().enumerate() {
+                results_rows.push(result_row(scene, e.config.name, j, cmp, reference));
+            }
+            judged.push((e, c));
+        }
+        bar.suspend(|| print_table(scene, boxes, k, args, &judged, &tol));
+    }
+    bar.finish_and_clear();
+    let mut header: Vec<&str> = RUNS_HEADER.to_vec();
+    header.extend(OBSERVABLES.iter().map(|o| o.key));
+    super::write_csv(&args.out.join("runs.csv"), &header, runs_rows)?;
+    super::write_csv(&args.out.join("results.csv"), &RESULTS_HEADER, results_rows)?;
+    println!(
+        "wrote {}/runs.csv and results.csv; {:.1} s in all",
+        args.out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// A row of `results.csv`.
+fn result_row(
+    scene: &str,
+    config: &str,
+    j: usize,
+    cmp: &Comparison,
+    reference: &[Outcome],
+) -> Vec<String> {
+    let ref_mean = reference.iter().map(|o| o[j]).sum::<f64>() / reference.len() as f64;
+    let (d, lo, hi) = match &cmp.interval {
+        Ok(iv) => (iv.mean, iv.lo, iv.hi),
+        Err(_) => (f64::NAN, f64::NAN, f64::NAN),
+    };
+    let o = &OBSERVABLES[j];
+    vec![
+        scene.into(),
+        config.into(),
+        o.key.into(),
+        o.unit.into(),
+        cmp.mean.to_string(),
+        ref_mean.to_string(),
+        d.to_string(),
+        lo.to_string(),
+        hi.to_string(),
+        cmp.tolerance.to_string(),
+        cmp.verdict.symbol().trim().to_string(),
+    ]
+}
+
+/// A number in about five significant characters.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() {
+        format!("{x}")
+    } else if a >= 100.0 || x == x.trunc() && a < 1e5 {
+        format!("{x:.0}")
+    } else if a >= 10.0 {
+        format!("{x:.1}")
+    } else if a >= 0.1 {
+        format!("{x:.2}")
+    } else {
+        format!("{x:.3}")
+    }
+}
+
+/// The table of one scene: per observable a line of means and a line of paired
+/// differences `±` the 95 % interval's half width, with the verdict.
+fn print_table(
+    scene: &str,
+    boxes: usize,
+    k: u64,
+    args: &Args,
+    judged: &[(&Ensemble, Vec<Comparison>)],
+    tol: &[f64; COUNT],
+) {
+    const W: usize = 16;
+    let held_ref = judged
+        .iter()
+        .map(|(e, _)| {
+            let mean = e.held_at.iter().sum::<usize>() as f64 / e.held_at.len().max(1) as f64;
+            format!("{:>W$}", num(mean))
+        })
+        .collect::<String>();
+    println!(
+        "\n{scene}: {boxes} boxes, {k} seeds from {}, disturbance at step {}, {} steps after",
+        args.seed, args.at, args.after
+    );
+    let mut head = format!("{:<22}{:>8}", "observable [unit]", "tol");
+    for (e, _) in judged {
+        head.push_str(&format!("{:>W$}", e.config.short));
+    }
+    println!("{head}");
+    println!("{:<30}{held_ref}", "held at disturbance");
+    for (j, o) in OBSERVABLES.iter().enumerate() {
+        if judged[0].1[j].mean.is_nan() {
+            continue;
+        }
+        let label = format!("{} [{}]", o.key, o.unit);
+        let t = if tol[j].is_finite() {
+            num(tol[j])
+        } else {
+            String::new()
+        };
+        let mut means = format!("{label:<22}{t:>8}");
+        let mut diffs = format!("{:<30}", "  diff ± 95%");
+        for (i, (_, c)) in judged.iter().enumerate() {
+            means.push_str(&format!("{:>W$}", num(c[j].mean)));
+            let cell = match (&c[j].interval, i) {
+                (_, 0) => String::new(),
+                (Ok(iv), _) => format!(
+                    "{}{}±{} {}",
+                    if iv.mean >= 0.0 { "+" } else { "" },
+                    num(iv.mean),
+                    num((iv.hi - iv.lo) / 2.0),
+                    c[j].verdict.symbol()
+                ),
+                (Err(_), _) => format!("n/a {}", c[j].verdict.symbol()),
+            };
+            diffs.push_str(&format!("{cell:>W$}"));
+        }
+        println!("{means}");
+        println!("{diffs}");
+    }
+    let mut line = format!("{:<30}", "verdict");
+    for (i, (_, c)) in judged.iter().enumerate() {
+        let differs: Vec<&str> = (0..COUNT)
+            .filter(|&j| !judged[0].1[j].mean.is_nan())
+            .filter(|&j| !matches!(c[j].verdict, Verdict::Equivalent | Verdict::Reported))
+            .map(|j| OBSERVABLES[j].key)
+            .collect();
+        let cell = if i == 0 {
+            "-".to_string()
+        } else if differs.is_empty() {
+            "equivalent".to_string()
+        } else {
+            format!("{} differ", differs.len())
+        };
+        line.push_str(&format!("{cell:>W$}"));
+    }
+    println!("{line}");
+}
