@@ -61,14 +61,18 @@ fn fixated_stack_losing_its_base(
 }
 
 #[test]
-fn report_mode_detects_a_fixated_stack_left_hanging_and_sends_events() {
+fn report_mode_finds_no_hanging_sleeper_where_fixation_lets_a_stack_fall() {
+    // The speed-ups release a held body whose remembered support is gone, so a stack
+    // that loses its base falls as a sleeping one does, and the monitor has nothing
+    // to report (it reports Rapier's sleeping bodies left in the air; see
+    // tests/monitor_detect_hanging.rs).
     let (mut scene, mut layer, rx, upper) = fixated_stack_losing_its_base(MonitorMode::Report);
     let heights: Vec<Real> = upper
         .iter()
         .map(|&h| scene.world.bodies[h].translation().y)
         .collect();
     let mut per_step = 0;
-    for _ in 0..60 {
+    for _ in 0..150 {
         per_step += run_validated(&mut scene, &mut layer, 0, 1).violations;
     }
     let totals = layer.violation_totals().unwrap();
@@ -77,26 +81,12 @@ fn report_mode_detects_a_fixated_stack_left_hanging_and_sends_events() {
         layer.monitor().unwrap().monitor().totals(),
         "the long path"
     );
-    assert!(
-        totals.hanging_sleeper >= 1,
-        "the spheres left in the air are hanging sleepers: {totals:?}"
-    );
-    assert_eq!(per_step as u64, totals.total(), "per-step counts add up");
-    let events: Vec<Event> = rx.try_iter().collect();
-    assert!(events
-        .iter()
-        .all(|e| e.kind == EventKind::Violation && e.violation.is_some()));
-    assert_eq!(events.len() as u64, totals.total());
-    assert!(events
-        .iter()
-        .any(|e| e.violation == Some(ViolationKind::HangingSleeper) && e.value > 0.1));
-    // Report mode repairs nothing: the spheres still hang where they were.
+    assert_eq!(totals.total(), 0, "{totals:?}");
+    assert_eq!(per_step, 0);
+    assert_eq!(rx.try_iter().count(), 0, "no monitor event");
     for (&h, y) in upper.iter().zip(heights) {
-        assert_eq!(
-            scene.world.bodies[h].translation().y,
-            y,
-            "report mode moved a body"
-        );
+        let now = scene.world.bodies[h].translation().y;
+        assert!(now < y - 0.5, "the sphere fell: {y} -> {now}");
     }
 }
 

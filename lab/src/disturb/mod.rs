@@ -102,7 +102,8 @@ pub fn refinements() -> [Config; 2] {
 
 /// The configurations judged against the reference: stock Rapier, the layer's sleep
 /// (`SpeedUps::default()`), `reliable_sleep()` without and with the monitor repairing,
-/// and `papers_fastest()`.
+/// `reliable_sleep()` with the release confined to the bodies reached (the
+/// alternative to waking the held group whole), and `papers_fastest()`.
 pub fn configs() -> Vec<Config> {
     let layer = |name, short, speedups, repair| Config {
         name,
@@ -120,6 +121,15 @@ pub fn configs() -> Vec<Config> {
             "reliable_sleep",
             "reliable",
             SpeedUps::reliable_sleep(),
+            false,
+        ),
+        layer(
+            "reliable_sleep, release_group off",
+            "rel-nogroup",
+            SpeedUps {
+                release_group: false,
+                ..SpeedUps::reliable_sleep()
+            },
             false,
         ),
         layer(
