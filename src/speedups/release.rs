@@ -7,10 +7,14 @@
 //!   body, frees the held bodies whose broad-phase boxes lie within its motion over
 //!   the next steps ([`REACH_STEPS`]), read from Rapier's broad phase; without one (a
 //!   hand-built [`WorldView`]) the held bodies it touches.
-//! - **Group**: a released body frees every held body it touched when it was held, or
-//!   that touched it, transitively ([`super::SpeedUps::release_group`]): the held part of its
-//!   contact group wakes whole.
-//! - **Support**: a held body whose remembered support is gone is released.
+//! - **Group**: the release spreads from a reached body to the held bodies it touched
+//!   when it was held, or that touched it, nearest first, as far as the reaching
+//!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
+//!   `release_speed`, in kg of held bodies); a kinematic body's or the user's
+//!   release has no bound: the held part of the contact group wakes whole
+//!   ([`super::SpeedUps::release_group`]).
+//! - **Support**: a held body whose remembered support is gone is released, with
+//!   what rests on it, transitively.
 //! - **Owner**: a held body the user turned into another type is the user's again.
 //!
 //! Cost: O(fast bodies × (log bodies + boxes met)) per step while anything is held;
@@ -31,19 +35,21 @@ use crate::WorldView;
 /// the released bodies are dynamic, and one more while Rapier solves their contact.
 pub(crate) const REACH_STEPS: f32 = 2.0;
 
-impl SpeedUpState {
-    /// Queues a held body's release (once). O(pending releases).
-    pub(super) fn queue_release(&mut self, h: RigidBodyHandle) {
-        if self.is_fixated(h) && !self.to_release.contains(&h) {
-            self.to_release.push(h);
-            self.stats.releases = self.stats.releases.saturating_add(1);
-        }
-    }
+/// How much more held mass a disturbance releases than its momentum could set moving
+/// at `release_speed`: a margin, since a push spreads sideways through a pile and
+/// its contacts carry it on.
+pub(crate) const REACH_MASS_MARGIN: f32 = 4.0;
 
-    /// Frees the held bodies that a moving body is about to reach (see the module
-    /// doc): each refreshed body faster than `release_speed` that is not sleepy, and
-    /// each moving kinematic body. O(such bodies × (log bodies + boxes met)).
-    pub(super) fn release_reached(
+/// A release decided this step, with how far it may spread: the mass of held bodies,
+/// in kg, it may set moving (infinite: the whole held group).
+type Seed = (RigidBodyHandle, f32);
+
+impl SpeedUpState {
+    /// Decides this step's releases: the held bodies the user took back, those a
+    /// moving body is about to reach, each spread through the held group as far as
+    /// it reaches. O(refreshed bodies + fast bodies × (log bodies + boxes met) +
+    /// released bodies × their links · log).
+    pub(super) fn decide_releases(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
@@ -52,31 +58,63 @@ impl SpeedUpState {
         if self.held.is_empty() {
             return;
         }
-        let mut hit: Vec<RigidBodyHandle> = Vec::new();
+        let mut seeds: Vec<Seed> = Vec::new();
+        self.taken_back(graph, view, refreshed, &mut seeds);
+        self.reached(graph, view, refreshed, &mut seeds);
+        self.spread_releases(view, seeds);
+    }
+
+    /// Queues the releases of `bodies` that are held and not queued yet, in the
+    /// order given. O((queued + bodies) · log).
+    pub(super) fn queue_releases(&mut self, bodies: impl IntoIterator<Item = RigidBodyHandle>) {
+        let mut queued: BTreeSet<(u32, u32)> = self.to_release.iter().map(|&h| key(h)).collect();
+        for h in bodies {
+            if self.is_fixated(h) && queued.insert(key(h)) {
+                self.to_release.push(h);
+                self.stats.releases = self.stats.releases.saturating_add(1);
+            }
+        }
+    }
+
+    /// The held bodies a moving body is about to reach (see the module doc): each
+    /// refreshed body faster than `release_speed` that is not sleepy, and each moving
+    /// kinematic body, with the mass its momentum may set moving. O(such bodies ×
+    /// (log bodies + boxes met)).
+    fn reached(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        refreshed: &[NodeId],
+        seeds: &mut Vec<Seed>,
+    ) {
         for &n in refreshed {
             let Some(node) = graph.node(n) else { continue };
             let Some(h) = node.body() else { continue };
             let Some(rb) = view.bodies.get(h) else {
                 continue;
             };
-            let moving = match node.kind() {
+            let speed = rb.linvel().length() + rb.angvel().length() * body_radius(view, rb);
+            let budget = match node.kind() {
                 k if k.is_simulated() => {
-                    node.is_awake()
-                        && !self.is_sleepy(h)
-                        && rb.linvel().length() > self.config.release_speed
+                    if !node.is_awake()
+                        || self.is_sleepy(h)
+                        || rb.linvel().length() <= self.config.release_speed
+                    {
+                        continue;
+                    }
+                    if self.config.release_speed > 0.0 {
+                        REACH_MASS_MARGIN * rb.mass() * speed / self.config.release_speed
+                    } else {
+                        f32::INFINITY
+                    }
                 }
-                NodeKind::Kinematic => crate::world::moves(rb),
-                _ => false,
+                NodeKind::Kinematic if crate::world::moves(rb) => f32::INFINITY,
+                _ => continue,
             };
-            if !moving {
-                continue;
-            }
+            let from = seeds.len();
             match view.broad_phase {
                 Some(bp) => {
-                    let reach = (rb.linvel().length()
-                        + rb.angvel().length() * body_radius(view, rb))
-                        * view.dt
-                        * REACH_STEPS;
+                    let reach = speed * view.dt * REACH_STEPS;
                     let filter = QueryFilter::from(
                         QueryFilterFlags::ONLY_FIXED | QueryFilterFlags::EXCLUDE_SENSORS,
                     );
@@ -91,11 +129,12 @@ impl SpeedUpState {
                             continue;
                         };
                         let aabb = co.compute_aabb().loosened(reach);
-                        hit.extend(
+                        seeds.extend(
                             query
                                 .intersect_aabb_conservative(aabb)
                                 .filter_map(|(_, other)| other.parent())
-                                .filter(|&p| p != h && self.is_fixated(p)),
+                                .filter(|&p| p != h && self.is_fixated(p))
+                                .map(|p| (p, 0.0)),
                         );
                     }
                 }
@@ -103,80 +142,104 @@ impl SpeedUpState {
                 None => {
                     for (m, _, e) in graph.neighbors(n) {
                         if e.kind() == EdgeKind::Physical && e.is_touching() {
-                            hit.extend(graph.body_of(m).filter(|&mh| self.is_fixated(mh)));
+                            let hit = graph.body_of(m).filter(|&mh| self.is_fixated(mh));
+                            seeds.extend(hit.map(|mh| (mh, 0.0)));
                         }
                     }
                 }
             }
-        }
-        for h in hit {
-            self.queue_release(h);
-        }
-    }
-
-    /// Spreads the queued releases through the held bodies' links, transitively (see
-    /// [`super::SpeedUps::release_group`]). O(released bodies × their links · log).
-    pub(super) fn spread_releases(&mut self) {
-        if !self.config.release_group || self.to_release.is_empty() {
-            return;
-        }
-        let mut queue: Vec<(u32, u32)> = self.to_release.iter().map(|&h| key(h)).collect();
-        let mut seen: BTreeSet<(u32, u32)> = queue.iter().copied().collect();
-        while let Some(k) = queue.pop() {
-            let Some(held) = self.held.get(&k) else {
-                continue;
-            };
-            let forward = held.links.iter().map(|&h| key(h));
-            let back = self
-                .linked
-                .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
-                .map(|&(_, held)| held);
-            let next: Vec<(u32, u32)> = forward
-                .chain(back)
-                .filter(|m| self.held.contains_key(m))
-                .collect();
-            for m in next {
-                if seen.insert(m) {
-                    let h = self.held[&m].handle;
-                    self.to_release.push(h);
-                    self.stats.releases = self.stats.releases.saturating_add(1);
-                    queue.push(m);
-                }
+            // The momentum is shared by what it reaches.
+            let reached = (seeds.len() - from) as f32;
+            for seed in &mut seeds[from..] {
+                seed.1 = budget / reached;
             }
         }
     }
 
-    /// Releases the held bodies whose remembered support is gone (a supporter removed,
-    /// moved or released from under them): they fall as a sleeping body falls when
-    /// what it rests on goes. O(unsupported bodies · log held).
-    pub(super) fn release_unsupported(&mut self) {
-        let gone: Vec<RigidBodyHandle> = self
-            .unsupported
-            .iter()
-            .filter_map(|k| self.held.get(k).map(|held| held.handle))
-            .collect();
-        for h in gone {
-            self.queue_release(h);
+    /// Queues the seeds' releases, each spread through the held bodies' links both
+    /// ways, nearest first, while its mass budget lasts (see the module doc); only
+    /// the seeds with `release_group` off. O(released bodies × their links · log).
+    fn spread_releases(&mut self, view: &WorldView, mut seeds: Vec<Seed>) {
+        seeds.sort_by_key(|&(h, _)| key(h));
+        let mut out: Vec<RigidBodyHandle> = Vec::new();
+        for (h, budget) in seeds {
+            out.push(h);
+            if !self.config.release_group {
+                continue;
+            }
+            let mut left = budget - held_mass(view, h);
+            let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
+            let mut queue = std::collections::VecDeque::from([key(h)]);
+            while let Some(k) = queue.pop_front() {
+                if left <= 0.0 {
+                    break;
+                }
+                let Some(held) = self.held.get(&k) else {
+                    continue;
+                };
+                let forward = held.links.iter().map(|&l| key(l));
+                let back = self
+                    .linked
+                    .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
+                    .map(|&(_, held)| held);
+                for m in forward.chain(back) {
+                    let Some(next) = self.held.get(&m) else {
+                        continue;
+                    };
+                    if left > 0.0 && seen.insert(m) {
+                        left -= held_mass(view, next.handle);
+                        out.push(next.handle);
+                        queue.push_back(m);
+                    }
+                }
+            }
         }
+        self.queue_releases(out);
     }
 
-    /// Releases the refreshed held bodies that are no longer fixed in Rapier: the user
-    /// gave them another type, and they are the user's again (the release keeps the
-    /// type and velocities the user set, see [`super::hold::Held::give_back`]), with
-    /// what they touched as for any release. O(refreshed bodies · log held).
-    pub(super) fn yield_to_owner(
-        &mut self,
+    /// Releases the held bodies whose remembered support is gone (a supporter removed,
+    /// moved or released from under them), with what rests on them, transitively:
+    /// they fall as a sleeping body falls when what it rests on goes. O(released
+    /// bodies × their dependents · log).
+    pub(super) fn release_unsupported(&mut self, graph: &ContactGraph) {
+        let mut queue: Vec<(u32, u32)> = self.unsupported.iter().copied().collect();
+        let mut seen: BTreeSet<(u32, u32)> = queue.iter().copied().collect();
+        let mut out: Vec<RigidBodyHandle> = Vec::new();
+        while let Some(k) = queue.pop() {
+            let Some(held) = self.held.get(&k) else {
+                continue;
+            };
+            out.push(held.handle);
+            let Some(n) = graph.node_of_body(held.handle) else {
+                continue;
+            };
+            let lo = (n, (0, 0));
+            let hi = (n, (u32::MAX, u32::MAX));
+            for &(_, d) in self.dependents.range(lo..=hi) {
+                if seen.insert(d) {
+                    queue.push(d);
+                }
+            }
+        }
+        out.sort_by_key(|&h| key(h));
+        self.queue_releases(out);
+    }
+
+    /// The refreshed held bodies that are no longer fixed in Rapier: the user gave
+    /// them another type, and they are the user's again (the release keeps the type
+    /// and velocities the user set, see [`super::hold::Held::give_back`]), their
+    /// group with them. O(refreshed bodies · log held).
+    fn taken_back(
+        &self,
         graph: &ContactGraph,
         view: &WorldView,
         refreshed: &[NodeId],
+        seeds: &mut Vec<Seed>,
     ) {
-        if self.held.is_empty() {
-            return;
-        }
         for &n in refreshed {
             let Some(h) = graph.body_of(n) else { continue };
             if self.is_fixated(h) && view.bodies.get(h).is_some_and(|rb| !rb.is_fixed()) {
-                self.queue_release(h);
+                seeds.push((h, f32::INFINITY));
             }
         }
     }
@@ -198,6 +261,18 @@ impl SpeedUpState {
         links.dedup();
         links
     }
+}
+
+/// A held body's mass, from its colliders (Rapier gives a fixed body none). O(its
+/// colliders).
+fn held_mass(view: &WorldView, h: RigidBodyHandle) -> f32 {
+    view.bodies.get(h).map_or(0.0, |rb| {
+        rb.colliders()
+            .iter()
+            .filter_map(|&c| view.colliders.get(c))
+            .map(|co| co.mass())
+            .sum()
+    })
 }
 
 /// The distance from a body's centre of mass to the farthest point of its colliders'

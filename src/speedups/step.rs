@@ -35,7 +35,6 @@ impl SpeedUpState {
         self.sort_decisions();
         self.write_eligibility(world);
         self.release_links(world);
-        self.spread_releases();
         self.apply_releases(world, mods, user_passive);
         self.apply_fixations(world);
         self.park(world, user_passive);
@@ -95,8 +94,7 @@ impl SpeedUpState {
         }
         if c.fixate {
             let up = up_of(view.gravity);
-            self.yield_to_owner(graph, view, refreshed);
-            self.release_reached(graph, view, refreshed);
+            self.decide_releases(graph, view, refreshed);
             self.decide_fixations(graph, view, refreshed, up);
             self.decide_support(graph, view, up, changes);
         }

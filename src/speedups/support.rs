@@ -164,7 +164,7 @@ impl SpeedUpState {
             }
         }
         self.newly_held.clear();
-        self.release_unsupported();
+        self.release_unsupported(graph);
         self.choose_parking(view);
     }
 
