@@ -3,10 +3,11 @@
 //! A held body is a fixed body to Rapier, so a contact can never move it: the layer
 //! must free it *before* the contact is solved, and free with it whatever the
 //! disturbance reaches, as Rapier wakes a sleeping island whole (paper §7, fixation).
-//! - **Reach**: a body moving faster than `release_speed`, and any moving kinematic
-//!   body, frees the held bodies whose broad-phase boxes lie within its motion over
-//!   the next steps ([`REACH_STEPS`]), read from Rapier's broad phase; without one (a
-//!   hand-built [`WorldView`]) the held bodies it touches.
+//! - **Reach**: a body moving faster than `release_speed` frees the held bodies it
+//!   heads towards whose broad-phase boxes lie within its motion over the next steps
+//!   ([`REACH_STEPS`]), read from Rapier's broad phase; a moving kinematic body, all
+//!   of them; without a broad phase (a hand-built [`WorldView`]), the held bodies it
+//!   touches.
 //! - **Group**: the release spreads from a reached body to the held bodies it touched
 //!   when it was held, or that touched it, nearest first, as far as the reaching
 //!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
@@ -94,6 +95,7 @@ impl SpeedUpState {
                 continue;
             };
             let speed = rb.linvel().length() + rb.angvel().length() * body_radius(view, rb);
+            let simulated = node.kind().is_simulated();
             let budget = match node.kind() {
                 k if k.is_simulated() => {
                     if !node.is_awake()
@@ -134,6 +136,7 @@ impl SpeedUpState {
                                 .intersect_aabb_conservative(aabb)
                                 .filter_map(|(_, other)| other.parent())
                                 .filter(|&p| p != h && self.is_fixated(p))
+                                .filter(|&p| !simulated || approaches(view, rb, p))
                                 .map(|p| (p, 0.0)),
                         );
                     }
@@ -263,6 +266,14 @@ impl SpeedUpState {
     }
 }
 
+/// Whether a moving dynamic body heads towards a held one (their centres closing):
+/// one rolling past or away does not release it. O(1).
+fn approaches(view: &WorldView, rb: &rapier3d::prelude::RigidBody, held: RigidBodyHandle) -> bool {
+    view.bodies
+        .get(held)
+        .is_some_and(|o| (o.translation() - rb.translation()).dot(rb.linvel()) > 0.0)
+}
+
 /// A held body's mass, from its colliders (Rapier gives a fixed body none). O(its
 /// colliders).
 fn held_mass(view: &WorldView, h: RigidBodyHandle) -> f32 {
@@ -287,4 +298,47 @@ fn body_radius(view: &WorldView, rb: &rapier3d::prelude::RigidBody) -> f32 {
             (aabb.center() - centre).length() + aabb.half_extents().length()
         })
         .fold(0.0, f32::max)
+}
+
+impl SpeedUpState {
+    /// Releases a held body for the monitor's repair of an unresponsive body (one an
+    /// awake body pushes into), with the held bodies it touched when it was held or
+    /// that touched it, transitively when `release_group` is on (the whole held part
+    /// of its group, as the user's release), each with its rest count started again
+    /// ([`Self::repair_wake`]). The bodies released, in handle order. O(released
+    /// bodies × their links · log).
+    pub(crate) fn repair_release_group(
+        &mut self,
+        h: RigidBodyHandle,
+        mods: &mut crate::logic::hooks::ContactMods,
+    ) -> Vec<RigidBodyHandle> {
+        let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
+        let mut out = vec![h];
+        let mut queue = vec![key(h)];
+        while self.config.release_group {
+            let Some(k) = queue.pop() else { break };
+            let Some(held) = self.held.get(&k) else {
+                continue;
+            };
+            let forward = held.links.iter().map(|&l| key(l));
+            let back = self
+                .linked
+                .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
+                .map(|&(_, held)| held);
+            let next: Vec<(u32, u32)> = forward.chain(back).collect();
+            for m in next {
+                if let Some(held) = self.held.get(&m) {
+                    if seen.insert(m) {
+                        out.push(held.handle);
+                        queue.push(m);
+                    }
+                }
+            }
+        }
+        out.sort_by_key(|&b| key(b));
+        for &b in &out {
+            self.repair_wake(b, mods);
+        }
+        out
+    }
 }
