@@ -59,9 +59,9 @@ use rcg_scenes as scenes;
 // when their support goes).
 
 /// Every speed-up on: pose checkpoints, final pose, event stream.
-const GOLDEN_ALL_POSES: u64 = 0x6f4c_6ad0_439d_445b;
-const GOLDEN_ALL_FINAL: u64 = 0x19f2_0499_51a6_3a3b;
-const GOLDEN_ALL_EVENTS: u64 = 0xdf87_b71f_7d47_1d21;
+const GOLDEN_ALL_POSES: u64 = 0x9b8f_7c23_c332_78d7;
+const GOLDEN_ALL_FINAL: u64 = 0xc339_d0a5_8cb7_0a5b;
+const GOLDEN_ALL_EVENTS: u64 = 0x3bf1_54ec_18e2_f7b0;
 /// `SpeedUps::none()`.
 const GOLDEN_NONE_POSES: u64 = 0x91b4_8c73_eeb0_02d0;
 const GOLDEN_NONE_FINAL: u64 = 0xea52_db4c_bfc2_35f8;
