@@ -196,3 +196,43 @@ fn a_held_box_falls_when_the_box_under_it_is_removed() {
     let y = scene.world.bodies[column[1]].translation().y;
     assert!(y0 - y > 0.3, "the box fell {} m", y0 - y);
 }
+
+#[test]
+fn a_held_pile_falls_when_its_ground_is_moved_down() {
+    let mut scene = scenes::box_pile(20, 3);
+    let boxes = scene.dynamic_bodies();
+    let ground = scene.body("ground").unwrap();
+    let mut layer = ContactLayer::new();
+    layer.set_speedups(Some(preset(true))).unwrap();
+    common::run_validated(&mut scene, &mut layer, 0, SETTLE);
+    assert_eq!(layer.speedups().unwrap().stats().fixated, 20, "the pile is held");
+    let before = positions(&scene.world, &boxes);
+    let g = &mut scene.world.bodies[ground];
+    let at = g.translation();
+    g.set_translation(at - Vector::new(0.0, 1.0, 0.0), true);
+    common::run_validated(&mut scene, &mut layer, SETTLE, 120);
+    // Without the monitor, as in plain Rapier: every box falls with the ground.
+    for (&h, b) in boxes.iter().zip(&before) {
+        let y = scene.world.bodies[h].translation().y;
+        assert!(b.y - y > 0.9, "box {h:?} fell {} m", b.y - y);
+    }
+}
+
+#[test]
+fn a_held_box_the_user_disables_stays_disabled() {
+    let mut scene = pile();
+    let boxes = scene.dynamic_bodies();
+    let mut layer = ContactLayer::new();
+    layer.set_speedups(Some(preset(true))).unwrap();
+    common::run_validated(&mut scene, &mut layer, 0, SETTLE);
+    // One box of every column's top, each in whatever state of parking it is.
+    let tops: Vec<RigidBodyHandle> = boxes.iter().skip(4).step_by(5).copied().collect();
+    for &h in &tops {
+        assert!(layer.speedups().unwrap().is_fixated(h));
+        scene.world.bodies[h].set_enabled(false);
+    }
+    common::run_validated(&mut scene, &mut layer, SETTLE, 200);
+    for &h in &tops {
+        assert!(!scene.world.bodies[h].is_enabled(), "box {h:?} was enabled again");
+    }
+}

@@ -64,10 +64,11 @@ pub struct SpeedUps {
     /// A fixated body is released when a body that is not sleepy and moves faster
     /// than this, or a moving kinematic body, is about to reach it, m/s. Default 0.5.
     pub release_speed: f32,
-    /// A release reaches the whole held part of the released body's contact group
-    /// (every held body it touched when held, or that touched it, transitively), as a
-    /// sleeping Rapier island wakes whole; off, only the bodies reached are released.
-    /// Default on.
+    /// A release spreads from a released body through the held bodies it touched
+    /// when held, or that touched it, nearest first, as far as the disturbance's
+    /// momentum reaches (a kinematic body's and the user's: the whole held group, as
+    /// a sleeping Rapier island wakes whole); off, only the bodies reached are
+    /// released. Default on.
     pub release_group: bool,
 }
 
@@ -118,19 +119,20 @@ impl SpeedUps {
         }
     }
 
-    /// Preset: piles that sleep reliably, with Rapier's warm start kept. The contact
-    /// graph with `cache`, `subgroup` and `fixate` (`C----SF` in the DIKU table): a
-    /// group at rest is held still as a whole, sleepy bodies insulate, contacts are
-    /// recycled and warm-started. Pair it with the monitor repairing
-    /// ([`crate::ContactLayer::set_monitor`]) where held bodies may lose their support
-    /// (a shelf moved away). Measured on the DIKU scene (120 spheres, 8 seeds, commit
-    /// dcb6997, `cargo run --release -p rcg-lab -- diku`): 1.56× brute force's speed
-    /// (1.60× stock Rapier's; the speed-ups are noisy on the shared machine), accuracy
-    /// 0.74 (inside the reference's own error on every observable, though not shown
-    /// equivalent: undecided on several), no violation, resting penetration 0.13 mm
-    /// against the reference's 3.77 mm. At 1,200 spheres (commit 8ee5b24, `--spheres
-    /// 1200`): 1.86× brute force (1.53× stock), accuracy 2.65 (stock Rapier's 2.64:
-    /// the warm-started solver's outcome), one violation in 8 runs.
+    /// Preset: piles held still once at rest, with Rapier's warm start kept. The
+    /// contact graph with `cache`, `subgroup` and `fixate` (`C----SF` in the DIKU
+    /// table): a sleepy body is held (a fixed body to Rapier, out of its active set),
+    /// sleepy bodies insulate, contacts are recycled and warm-started. A held body is
+    /// released before a moving body reaches it, with as much of its held group as
+    /// the disturbance can move, and when its support goes (`docs/ARCHITECTURE.md`,
+    /// "Releasing held bodies"); on the disturbance scenes (a ball thrown into a
+    /// settled pile, its floor taken away, a paddle through it) it answers as Rapier
+    /// without sleep does on the bodies moved and the ball's outcome, except that the
+    /// paddle moves a few boxes fewer. The gain is on piles at rest; a pile that keeps
+    /// being hit (the DIKU scene's rim) runs at about stock Rapier's cost. What a held
+    /// body does not do yet: keep its contacts (holding sends `ContactStopped`), and
+    /// obey an impulse or velocity the user writes to it (Rapier drops writes to a
+    /// fixed body). Figures: `docs/results.md`.
     ///
     /// The other presets: observe only is no speed-ups at all
     /// (`set_speedups(None)`, the layer's default); [`Self::papers_fastest`].
@@ -144,14 +146,10 @@ impl SpeedUps {
     }
 
     /// Preset: the paper's fastest configuration (Table 5's ♠, `C--ZDSF`): cache,
-    /// zero, damp, subgroup and fixate. Changes motion: the damping slows rolling.
-    /// Measured on the DIKU scene (120 spheres, 8 seeds, commit dcb6997, `cargo run
-    /// --release -p rcg-lab -- diku`): 1.82× brute force's speed (1.87× stock
-    /// Rapier's; 1.10–1.45× at 775102f, when the speed-ups read every awake pair
-    /// each step), accuracy 17.9, not
-    /// equivalent: fewer spheres at the rim, more in the grooves, a lower and shorter
-    /// pile, slower rolling; one violation in 8 runs. At 1,200 spheres (commit
-    /// 8ee5b24): 2.21× brute force (1.82× stock), accuracy 103, no violation.
+    /// zero, damp, subgroup and fixate. Changes motion: the damping slows rolling, so
+    /// it is not equivalent to the reference on the DIKU scene (fewer spheres at the
+    /// rim, more in the grooves, a lower and shorter pile). Held bodies as in
+    /// [`Self::reliable_sleep`]. Figures: `docs/results.md`.
     pub fn papers_fastest() -> Self {
         Self {
             cache: true,
