@@ -128,12 +128,14 @@ pub struct Violations {
     pub penetration: u64,
     /// Escapes (non-finite state).
     pub escape: u64,
+    /// Unresponsive held bodies (pushed into, not moved).
+    pub unresponsive: u64,
 }
 
 impl Violations {
     /// All kinds together.
     pub fn total(&self) -> u64 {
-        self.hanging + self.launch + self.penetration + self.escape
+        self.hanging + self.launch + self.penetration + self.escape + self.unresponsive
     }
 
     /// The count of one kind.
@@ -143,6 +145,7 @@ impl Violations {
             ViolationKind::Launch => self.launch,
             ViolationKind::DeepPenetration => self.penetration,
             ViolationKind::Escape => self.escape,
+            ViolationKind::Unresponsive => self.unresponsive,
         }
     }
 }
@@ -396,6 +399,7 @@ pub fn run(
         launch: totals.get(ViolationKind::Launch),
         penetration: totals.get(ViolationKind::DeepPenetration),
         escape: totals.get(ViolationKind::Escape),
+        unresponsive: totals.get(ViolationKind::Unresponsive),
     };
     let left_region = opts
         .bodies

@@ -26,6 +26,7 @@
 //! | `jointed_sleeper` | stock, sleepy, fixate | fixate only: the crate is not dragged |
 //! | `gravity_change` | stock, sleepy | every kind of sleep: the spheres hang (not reported: see below) |
 //! | `static_moved` | stock, sleepy, fixate | fixate only: the boxes stay in the air (not reported: see below) |
+//! | `slow_push` | fixate | the pile stops a box pushed slowly into it (unresponsive) |
 //!
 //! The measured table, with the reading of each row, is in `docs/results.md`
 //! ("Stability suite: where the speed-ups fail"); `cargo lab stability` prints it.
@@ -79,7 +80,7 @@
 //!
 //! # Cost
 //! Every scene has at most 56 bodies and runs at most 600 steps; the whole table
-//! (13 scenes × 133 configurations plus controls) runs in about 20 s in release.
+//! (14 scenes × 133 configurations plus controls) runs in about 20 s in release.
 
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
@@ -205,6 +206,7 @@ const fn fails(target: Target, failure: Failure) -> Expectation {
 
 const HANGING: Failure = Failure::Violation(ViolationKind::HangingSleeper);
 const DEEP: Failure = Failure::Violation(ViolationKind::DeepPenetration);
+const UNRESPONSIVE: Failure = Failure::Violation(ViolationKind::Unresponsive);
 const DEVIATION: Failure = Failure::Deviation;
 
 /// One scene of the suite, with what it is built to break.
@@ -341,7 +343,7 @@ pub fn case(name: &str) -> Option<&'static StabilityCase> {
     SUITE.iter().find(|c| c.name == name)
 }
 
-static SUITE: [StabilityCase; 13] = [
+static SUITE: [StabilityCase; 14] = [
     StabilityCase {
         name: "hanging_sleeper",
         build: hanging_sleeper::hanging_sleeper,
@@ -491,6 +493,17 @@ static SUITE: [StabilityCase; 13] = [
         built_against: &[Target::StockSleep, Target::Sleepy, Target::Fixate],
         base: 0,
         expected: &[fails(Target::Fixate, HANGING)],
+        inside: None,
+    },
+    StabilityCase {
+        name: "slow_push",
+        build: slow_push::slow_push,
+        steps: 300,
+        radius: slow_push::BOX_HALF,
+        measured: &[],
+        built_against: &[Target::Fixate],
+        base: 0,
+        expected: &[fails(Target::Fixate, UNRESPONSIVE)],
         inside: None,
     },
 ];

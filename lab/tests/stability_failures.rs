@@ -23,7 +23,7 @@ mod common;
 use rapier3d::prelude::RigidBodyHandle;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{
-    Monitor, MonitorConfig, MonitorMode, RepairConfig, ViolationKind,
+    Monitor, MonitorConfig, MonitorMode, RepairConfig, RepairCounts, ViolationKind,
 };
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_lab::measure::{deviation, Mode, RunSpec, Trajectory, Violations};
@@ -69,6 +69,7 @@ fn run(
         launch: t.launch,
         penetration: t.deep_penetration,
         escape: t.escape,
+        unresponsive: t.unresponsive,
     };
     let deviation = reference.map_or(0.0, |r| deviation(&traj, r, case.radius));
     (
@@ -97,8 +98,8 @@ const HANGING: Failure = Failure::Violation(ViolationKind::HangingSleeper);
 fn describe(o: &Outcome) -> String {
     let v = o.violations;
     format!(
-        "{}H {}L {}P {}E, deviation {:.3}",
-        v.hanging, v.launch, v.penetration, v.escape, o.deviation
+        "{}H {}L {}P {}E {}U, deviation {:.3}",
+        v.hanging, v.launch, v.penetration, v.escape, v.unresponsive, o.deviation
     )
 }
 
@@ -223,6 +224,53 @@ fn fixation_leaves_boxes_hanging_when_their_shelf_moves_away() {
     check("static_moved");
 }
 
+#[test]
+fn fixation_stops_a_slow_push_into_a_pile() {
+    check("slow_push");
+}
+
+/// The slow push under fixation: reported (unresponsive) in report mode, and in repair
+/// mode the pile is released at the first push, moves as the reference moves it, and
+/// is reported no more often than without repair.
+#[test]
+fn repair_releases_the_pile_a_slow_push_presses() {
+    let case = stability::case("slow_push").unwrap();
+    let spec = case.target_spec(Target::Fixate);
+    assert_eq!(spec.name, "------F");
+    let (_, traj) = run(case, &stability::reference(), None);
+    let (report, _) = run(case, &spec, Some(&traj));
+    assert!(
+        report.violations.unresponsive >= 1,
+        "report: {}",
+        describe(&report)
+    );
+    assert!(
+        report.deviation >= stability::DEVIATION_MARGIN,
+        "report: the stopped push should leave the pile behind the reference: {}",
+        describe(&report)
+    );
+    let (repaired, repairs) = run_repaired_outcome(case, &spec, Some(&traj));
+    assert!(repairs.woken >= 1, "{repairs:?}");
+    assert!(
+        repaired.violations.unresponsive <= report.violations.unresponsive,
+        "repair: {} against report: {}",
+        describe(&repaired),
+        describe(&report)
+    );
+    assert_eq!(
+        repaired.violations.total(),
+        repaired.violations.unresponsive,
+        "repair: {}",
+        describe(&repaired)
+    );
+    assert!(
+        repaired.deviation + stability::DEVIATION_MARGIN <= report.deviation,
+        "repair should push the pile as the reference does: {} against report: {}",
+        describe(&repaired),
+        describe(&report)
+    );
+}
+
 /// Every hanging sleeper of the suite is reported by the monitor.
 #[test]
 fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
@@ -260,7 +308,7 @@ fn the_monitor_reports_every_hanging_sleeper_of_the_suite() {
 #[test]
 fn the_suite_is_complete_cheap_and_deterministic() {
     let suite = stability::suite();
-    assert_eq!(suite.len(), 13, "the 13 scenes of the suite");
+    assert_eq!(suite.len(), 14, "the 14 scenes of the suite");
     for case in suite {
         let a = (case.build)();
         assert_eq!(a.name, case.name);
@@ -308,7 +356,19 @@ fn boxes_resting_on_fixated_boxes_are_not_hanging() {
 /// Runs a case with the layer's monitor repairing (no outside monitor): the violations
 /// left after repair.
 fn run_repaired(case: &StabilityCase, spec: &RunSpec) -> Violations {
+    run_repaired_outcome(case, spec, None).0.violations
+}
+
+/// [`run_repaired`] with the deviation from `reference` (0 without one), sampled as
+/// [`run`] samples, and the repairs done.
+fn run_repaired_outcome(
+    case: &StabilityCase,
+    spec: &RunSpec,
+    reference: Option<&Trajectory>,
+) -> (Outcome, RepairCounts) {
     let mut scene = (case.build)();
+    let bodies = case.measured_bodies(&scene);
+    let mut traj = Trajectory::default();
     let mut layer = ContactLayer::new();
     match &spec.mode {
         Mode::Layer(s) => layer.set_speedups(Some(s.clone())).unwrap(),
@@ -324,14 +384,27 @@ fn run_repaired(case: &StabilityCase, spec: &RunSpec) -> Violations {
     layer.prime_monitor(&WorldView::from(&scene.world));
     for step in 0..case.steps {
         common::step_validated(&mut scene, &mut layer, step);
+        if (step + 1) % stability::SAMPLE_EVERY == 0 || step + 1 == case.steps {
+            traj.frames.push(rcg_lab::measure::sample(&scene, &bodies));
+        }
     }
     let t = layer.violation_totals().unwrap();
-    Violations {
+    let violations = Violations {
         hanging: t.hanging_sleeper,
         launch: t.launch,
         penetration: t.deep_penetration,
         escape: t.escape,
-    }
+        unresponsive: t.unresponsive,
+    };
+    let repairs = layer.monitor().unwrap().repairs();
+    let deviation = reference.map_or(0.0, |r| deviation(&traj, r, case.radius));
+    (
+        Outcome {
+            violations,
+            deviation,
+        },
+        repairs,
+    )
 }
 
 /// The scenes where an impact makes a contact deep within one step, which repair

@@ -514,25 +514,30 @@ pub enum ViolationKind {
     DeepPenetration,
     /// A body whose pose or velocity is not finite.
     Escape,
+    /// A held (fixated) body that an awake body pushes harder across gravity than
+    /// resting explains: a contact that should have moved it.
+    Unresponsive,
 }
 
 impl ViolationKind {
     /// Every kind, in report order.
-    pub const ALL: [ViolationKind; 4] = [
+    pub const ALL: [ViolationKind; 5] = [
         ViolationKind::HangingSleeper,
         ViolationKind::Launch,
         ViolationKind::DeepPenetration,
         ViolationKind::Escape,
+        ViolationKind::Unresponsive,
     ];
 
     /// A short stable name (`"hanging_sleeper"`, `"launch"`, `"deep_penetration"`,
-    /// `"escape"`), for tables and CSV headers.
+    /// `"escape"`, `"unresponsive"`), for tables and CSV headers.
     pub const fn name(self) -> &'static str {
         match self {
             ViolationKind::HangingSleeper => "hanging_sleeper",
             ViolationKind::Launch => "launch",
             ViolationKind::DeepPenetration => "deep_penetration",
             ViolationKind::Escape => "escape",
+            ViolationKind::Unresponsive => "unresponsive",
         }
     }
 }

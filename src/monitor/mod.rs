@@ -41,19 +41,34 @@
 //!   quarantine resets and disables such bodies during its step, so after a step their
 //!   pose is finite again: the bodies it reports ([`crate::WorldView::quarantined`])
 //!   are counted as escapes too.
+//! - **Unresponsive** (a held body that a contact should have moved): an awake
+//!   dynamic body pressing into a body held by the speed-ups' fixation harder across
+//!   gravity than resting explains. The pusher's contact impulses of the step (normal
+//!   and friction) and its weight give what moved it; what is left (its momentum
+//!   lost, a user's push), less the part along gravity and as far as it goes into the
+//!   held body, over the pusher's weight or load, is compared with
+//!   [`MonitorConfig::unresponsive_push`] in three steps in a row (a push is
+//!   sustained; the solver's imbalance in a pile at rest flickers). A body pushed slowly into a
+//!   held pile (slower than the speed-ups' `release_speed`, so nothing releases it)
+//!   is stopped as by a wall where a sleeping Rapier pile would wake and give way.
+//!   See `unresponsive.rs` for the measure and what it was chosen over.
 //!
 //! # Episodes, not steps
 //! Every kind is counted once per *episode*, which is what a table of violations
 //! wants: a body left hanging for two seconds is one hanging sleeper, not 190. An
 //! episode ends when the condition clears (the body is supported or released, the edge
-//! is shallow again, the pose is finite again); a launch episode ends at the first
-//! step in which the group of the launched bodies gains no excess energy.
+//! is shallow again, the pose is finite again, no awake body presses the held body
+//! over the threshold); a launch episode ends at the first step in which the group of
+//! the launched bodies gains no excess energy.
 //!
 //! # Cost
 //! Everything is driven by what the analysis refreshed: [`Monitor::check`] costs
 //! O(refreshed bodies + members of their groups + edges refreshed in the step) plus
 //! the open episodes (bodies being timed as unsupported, deep edges, escaped bodies),
-//! and O(colliders of a body) once per body for its size. A settled scene costs O(1).
+//! and O(colliders of a body) once per body for its size. The unresponsive check runs
+//! only while the speed-ups hold a body: O(edges of the refreshed bodies) plus
+//! O(contact pairs of the awake bodies touching a held one). A settled scene costs
+//! O(1).
 //! The per-body state is pruned of removed bodies as the layer reports them, and
 //! swept once it grows past twice the world's body count (amortised O(1)).
 //!
@@ -74,6 +89,7 @@ mod hanging;
 mod launch;
 mod penetration;
 mod repair;
+mod unresponsive;
 
 pub use repair::{LayerMonitor, MonitorMode, RepairConfig, RepairCounts};
 
@@ -126,6 +142,21 @@ pub struct MonitorConfig {
     /// support. Default 0.0: any upward component supports (a body on a fixed slope is
     /// supported). Must be in `[0, 1)`.
     pub min_support_cos: Real,
+    /// The largest unexplained push an awake body may put on a held (fixated) body
+    /// across gravity or up, in three steps in a row: the push its weight and its other
+    /// contacts do not explain (its momentum lost, a user's force), in units of its
+    /// weight over the step or its load if larger (see the module docs). Default 2.0:
+    /// a box driven at 0.3 m/s into a held box (`dt` = 0.01) measures about 3, a box
+    /// pushed with a constant force `F` measures `F` over its weight; bodies settling
+    /// on a held pile under [`crate::speedups::SpeedUps::reliable_sleep`] stay below
+    /// it for three steps in a row.
+    #[cfg_attr(feature = "serde", serde(default = "default_unresponsive_push"))]
+    pub unresponsive_push: Real,
+}
+
+#[cfg(feature = "serde")]
+fn default_unresponsive_push() -> Real {
+    MonitorConfig::default().unresponsive_push
 }
 
 impl Default for MonitorConfig {
@@ -136,6 +167,7 @@ impl Default for MonitorConfig {
             launch_relative: 0.05,
             launch_per_kg: 0.5,
             min_support_cos: 0.0,
+            unresponsive_push: 2.0,
         }
     }
 }
@@ -150,6 +182,7 @@ impl MonitorConfig {
             ("launch_relative", self.launch_relative),
             ("launch_per_kg", self.launch_per_kg),
             ("min_support_cos", self.min_support_cos),
+            ("unresponsive_push", self.unresponsive_push),
         ];
         for (name, value) in fields {
             if !value.is_finite() || value < 0.0 {
@@ -182,13 +215,16 @@ pub struct Violation {
     pub kind: ViolationKind,
     /// The body it is reported on: the hanging body; the group's body with the largest
     /// kinetic energy gain; the smaller body of a deep contact (the other one if the
-    /// smaller is static geometry); the escaped body.
+    /// smaller is static geometry); the escaped body; the held body an awake body
+    /// pressed.
     pub body: RigidBodyHandle,
     /// The body's node, if the graph has one.
     pub node: Option<NodeId>,
     /// The measure: seconds without support; excess energy of the group in joules;
     /// penetration depth in metres; for an escape, the number of non-finite scalars in
-    /// the pose (7) and velocities (6) — 0 for a body Rapier's quarantine already reset.
+    /// the pose (7) and velocities (6) — 0 for a body Rapier's quarantine already reset;
+    /// for an unresponsive body, the largest push across gravity on it in units of the
+    /// pusher's weight over the step plus its push along gravity.
     pub value: Real,
 }
 
@@ -204,6 +240,9 @@ pub struct ViolationCounts {
     pub deep_penetration: u64,
     /// Escapes.
     pub escape: u64,
+    /// Unresponsive held bodies.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub unresponsive: u64,
 }
 
 impl ViolationCounts {
@@ -214,12 +253,13 @@ impl ViolationCounts {
             ViolationKind::Launch => self.launch,
             ViolationKind::DeepPenetration => self.deep_penetration,
             ViolationKind::Escape => self.escape,
+            ViolationKind::Unresponsive => self.unresponsive,
         }
     }
 
     /// The sum over all kinds.
     pub fn total(&self) -> u64 {
-        self.hanging_sleeper + self.launch + self.deep_penetration + self.escape
+        self.hanging_sleeper + self.launch + self.deep_penetration + self.escape + self.unresponsive
     }
 
     fn add(&mut self, kind: ViolationKind) {
@@ -228,6 +268,7 @@ impl ViolationCounts {
             ViolationKind::Launch => self.launch += 1,
             ViolationKind::DeepPenetration => self.deep_penetration += 1,
             ViolationKind::Escape => self.escape += 1,
+            ViolationKind::Unresponsive => self.unresponsive += 1,
         }
     }
 }
@@ -247,6 +288,10 @@ pub struct Peaks {
     pub launch_excess: Real,
     /// Deepest penetration, over `penetration_fraction ×` the smaller body's size.
     pub penetration: Real,
+    /// Largest push on a held body across gravity, over `unresponsive_push` (0 when
+    /// `unresponsive_push` is 0, and while nothing is held).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub unresponsive: Real,
 }
 
 /// The plausibility monitor: call [`Monitor::check`] once after each step's analysis.
@@ -287,6 +332,8 @@ pub struct Monitor {
     launch: launch::Launch,
     penetration: penetration::Penetration,
     escape: escape::Escape,
+    #[cfg_attr(feature = "serde", serde(default))]
+    unresponsive: unresponsive::Unresponsive,
     found: Vec<Violation>,
     totals: ViolationCounts,
     peaks: Peaks,
@@ -367,6 +414,7 @@ impl Monitor {
             launch: Default::default(),
             penetration: Default::default(),
             escape: Default::default(),
+            unresponsive: Default::default(),
             found: Vec::new(),
             totals: ViolationCounts::default(),
             peaks: Peaks::default(),
@@ -438,6 +486,7 @@ impl Monitor {
                     self.hanging.forget(h);
                     self.launch.forget(h);
                     self.escape.forget(h);
+                    self.unresponsive.forget(h);
                 }
                 self.penetration.forget_node(r.id);
             }
@@ -456,6 +505,8 @@ impl Monitor {
         self.penetration
             .check(&ctx, &self.config, &mut self.found, &mut self.peaks);
         self.escape.check(&ctx, quarantined, &mut self.found);
+        self.unresponsive
+            .check(&ctx, &self.config, held, &mut self.found, &mut self.peaks);
 
         // A total order (two deep contacts of one body by their depth), so that the
         // order the detectors met them in, which follows the graph's edge order,
@@ -522,6 +573,15 @@ impl Monitor {
     pub fn unsupported_held(&self) -> impl Iterator<Item = (RigidBodyHandle, Real)> + '_ {
         self.hanging.timed()
     }
+
+    /// The held bodies that an awake body pressed over
+    /// [`MonitorConfig::unresponsive_push`] in the last check (the open unresponsive
+    /// episodes, reported or not in that check), each as (held body, the body pressing
+    /// it hardest, the measure), in handle order. A stability repair releases them.
+    /// O(1).
+    pub fn pressed_held(&self) -> &[(RigidBodyHandle, RigidBodyHandle, Real)] {
+        self.unresponsive.pressed()
+    }
 }
 
 /// The node kinds the solver moves (the bodies whose energy and support matter).
@@ -545,13 +605,14 @@ mod tests {
         c.validate().unwrap();
         assert_eq!(c.hang_time, 0.1);
         assert_eq!(c.penetration_fraction, 0.1);
+        assert_eq!(c.unresponsive_push, 2.0);
         assert!(Monitor::new(c).is_ok());
     }
 
     #[test]
     fn bad_configs_are_refused_by_name() {
         type Edit = fn(&mut MonitorConfig);
-        let cases: [(&str, Edit); 7] = [
+        let cases: [(&str, Edit); 9] = [
             ("hang_time", |c| c.hang_time = Real::NAN),
             ("hang_time", |c| c.hang_time = -0.1),
             ("penetration_fraction", |c| {
@@ -561,6 +622,10 @@ mod tests {
             ("launch_per_kg", |c| c.launch_per_kg = Real::NAN),
             ("min_support_cos", |c| c.min_support_cos = -0.5),
             ("min_support_cos", |c| c.min_support_cos = 1.0),
+            ("unresponsive_push", |c| c.unresponsive_push = -1.0),
+            ("unresponsive_push", |c| {
+                c.unresponsive_push = Real::INFINITY
+            }),
         ];
         for (want, edit) in cases {
             let mut c = MonitorConfig::default();
@@ -577,6 +642,7 @@ mod tests {
             launch_relative: 0.0,
             launch_per_kg: 0.0,
             min_support_cos: 0.0,
+            unresponsive_push: 0.0,
         };
         zero.validate().unwrap();
     }
@@ -587,14 +653,23 @@ mod tests {
         c.add(ViolationKind::Launch);
         c.add(ViolationKind::Launch);
         c.add(ViolationKind::Escape);
+        c.add(ViolationKind::Unresponsive);
         assert_eq!(c.get(ViolationKind::Launch), 2);
         assert_eq!(c.get(ViolationKind::Escape), 1);
+        assert_eq!(c.get(ViolationKind::Unresponsive), 1);
+        assert_eq!(c.unresponsive, 1);
         assert_eq!(c.get(ViolationKind::HangingSleeper), 0);
-        assert_eq!(c.total(), 3);
+        assert_eq!(c.total(), 4);
         let names: Vec<_> = ViolationKind::ALL.iter().map(|k| k.name()).collect();
         assert_eq!(
             names,
-            ["hanging_sleeper", "launch", "deep_penetration", "escape"]
+            [
+                "hanging_sleeper",
+                "launch",
+                "deep_penetration",
+                "escape",
+                "unresponsive"
+            ]
         );
     }
 }

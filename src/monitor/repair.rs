@@ -14,6 +14,12 @@
 //!     released (type and velocities restored), sleepers woken in Rapier, and the
 //!     speed-ups' rest counters of the group start again, so the group cannot be put
 //!     back to sleep before it has moved;
+//!   - *a held body an awake body presses into* over
+//!     [`MonitorConfig::unresponsive_push`] (an unresponsive body, in the step it is
+//!     found: a push cannot be seen coming) is released with the held part of its
+//!     group (the held bodies it touched when it was held, or that touched it,
+//!     transitively), and the pusher's rest count starts again, so that the next
+//!     step moves the pile as a sleeping Rapier pile woken by the push would move;
 //!   - *a released or woken body* gets a capped position correction for
 //!     [`RepairConfig::cap_steps`] steps (Rapier's `normalized_max_corrective_velocity`
 //!     lowered to [`RepairConfig::corrective_cap`] while any such body is fresh), so
@@ -149,6 +155,8 @@ impl RepairConfig {
 enum Action {
     /// Wake (release) the body and its group.
     Wake(RigidBodyHandle),
+    /// Release a held body and the held part of its group (an unresponsive body).
+    Release(RigidBodyHandle),
     /// Scale the velocities of the body's group by this factor.
     Damp(RigidBodyHandle, Real),
     /// Stand tweak and reduce down.
@@ -159,7 +167,8 @@ enum Action {
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RepairCounts {
-    /// Groups woken (or released) because a held body lost its support.
+    /// Groups woken (or released) because a held body lost its support or an awake
+    /// body pressed into it.
     pub woken: u64,
     /// Launched groups slowed down.
     pub damped: u64,
@@ -307,6 +316,25 @@ impl LayerMonitor {
                 value: seconds,
             });
         }
+        // Held bodies an awake body presses into: released with their group.
+        // The pusher's group is woken too: its rest count starts again, so that a
+        // pusher stopped by the held body is not fixated in the same pre-step.
+        for &(h, by, value) in self.monitor.pressed_held() {
+            if self.planned.contains(&Action::Release(h)) {
+                continue;
+            }
+            self.planned.push(Action::Release(h));
+            if !self.planned.contains(&Action::Wake(by)) {
+                self.planned.push(Action::Wake(by));
+            }
+            repaired.push(Violation {
+                step,
+                kind: ViolationKind::Unresponsive,
+                body: h,
+                node: graph.node_of_body(h),
+                value,
+            });
+        }
         // The early warning: a contact on its way to a deep penetration.
         if let Some((ratio, n)) = self.monitor.last_deepest() {
             if ratio > self.repair.penetration_warning {
@@ -344,7 +372,9 @@ impl LayerMonitor {
                     }
                     repaired.push(*v);
                 }
-                ViolationKind::HangingSleeper | ViolationKind::Escape => {}
+                ViolationKind::HangingSleeper
+                | ViolationKind::Escape
+                | ViolationKind::Unresponsive => {}
             }
         }
         // Bodies the speed-ups release get the capped correction too.
@@ -387,6 +417,17 @@ impl LayerMonitor {
                         self.fresh
                             .insert(m.into_raw_parts(), step + self.repair.cap_steps as u64);
                         woken.push(n);
+                    }
+                }
+                Action::Release(h) => {
+                    self.totals.woken += 1;
+                    let Some(s) = speedups.as_deref_mut() else {
+                        continue;
+                    };
+                    for m in s.repair_release_group(h, mods) {
+                        self.fresh
+                            .insert(m.into_raw_parts(), step + self.repair.cap_steps as u64);
+                        woken.extend(graph.node_of_body(m));
                     }
                 }
                 Action::Damp(h, factor) => {

@@ -202,7 +202,7 @@ fn run_variant(
 }
 
 /// Violations as `2H 1L`; `0` when none. Letters: H hanging sleeper, L launch, P deep
-/// penetration, E escape.
+/// penetration, E escape, U unresponsive held body.
 fn violations_text(r: &RunResult) -> String {
     let v = r.violations;
     let parts: Vec<String> = [
@@ -210,6 +210,7 @@ fn violations_text(r: &RunResult) -> String {
         (v.launch, 'L'),
         (v.penetration, 'P'),
         (v.escape, 'E'),
+        (v.unresponsive, 'U'),
     ]
     .iter()
     .filter(|(n, _)| *n > 0)
@@ -381,7 +382,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         verdict_table(&per_case);
     }
     println!(
-        "\nCells: violations (H hanging sleeper, L launch, P deep penetration, E escape) · deviation from the reference in the scene's length unit.\nA failure shows when a target's run has more violations of the expected kind than its control (the same run without the target), or exceeds the control's deviation by {} units.\nwrote {} in {:.1} s",
+        "\nCells: violations (H hanging sleeper, L launch, P deep penetration, E escape, U unresponsive) · deviation from the reference in the scene's length unit.\nA failure shows when a target's run has more violations of the expected kind than its control (the same run without the target), or exceeds the control's deviation by {} units.\nwrote {} in {:.1} s",
         stability::DEVIATION_MARGIN,
         path.display(),
         started.elapsed().as_secs_f64()

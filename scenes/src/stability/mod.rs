@@ -19,6 +19,7 @@
 //! | [`jointed_sleeper`] | stock, sleepy, fixate |
 //! | [`gravity_change`] | stock, sleepy |
 //! | [`static_moved`] | stock, sleepy, fixate |
+//! | [`slow_push`] | fixate |
 //!
 //! # Scripts find their bodies by tag
 //! A [`crate::Script`] is a plain `fn(&mut PhysicsWorld, u64)`, so the scenes
@@ -46,6 +47,7 @@ pub mod pyramid;
 pub mod removed_support;
 pub mod seesaw;
 pub mod slow_incline;
+pub mod slow_push;
 pub mod static_moved;
 pub mod tower;
 
@@ -104,6 +106,7 @@ mod tests {
             removed_support::removed_support,
             gravity_change::gravity_change,
             static_moved::static_moved,
+            slow_push::slow_push,
         ] {
             let (mut a, mut b) = (build(), build());
             a.run_plain(0, 200);
