@@ -102,10 +102,10 @@ fn a_small_run_writes_both_csv_files() {
     rcg_lab::cli::disturb::run(&args).unwrap();
     let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
     let results = std::fs::read_to_string(out.join("results.csv")).unwrap();
-    // 8 configurations (the reference, its 2 refinements, 5 judged) on 2 seeds.
-    assert_eq!(runs.lines().count(), 1 + 8 * 2);
+    // 9 configurations (the reference, its 2 refinements, 6 judged) on 2 seeds.
+    assert_eq!(runs.lines().count(), 1 + 9 * 2);
     assert!(runs.starts_with("scene,configuration,seed,boxes,held_at_disturbance,displaced,"));
     assert!(results.starts_with("scene,configuration,observable,unit,mean"));
-    assert_eq!(results.lines().count(), 1 + 8 * 14);
+    assert_eq!(results.lines().count(), 1 + 9 * 14);
     std::fs::remove_dir_all(&out).unwrap();
 }

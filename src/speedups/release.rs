@@ -7,7 +7,7 @@
 //!   heads towards whose broad-phase boxes lie within its motion over the next steps
 //!   ([`REACH_STEPS`]), read from Rapier's broad phase; a moving kinematic body, all
 //!   of them; without a broad phase (a hand-built [`WorldView`]), the held bodies it
-//!   touches.
+//!   touches. Either also frees the held bodies jointed to it.
 //! - **Group**: the release spreads from a reached body to the held bodies it touched
 //!   when it was held, or that touched it, nearest first, as far as the reaching
 //!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
@@ -149,6 +149,13 @@ impl SpeedUpState {
                             seeds.extend(hit.map(|mh| (mh, 0.0)));
                         }
                     }
+                }
+            }
+            // What it drags by a joint.
+            for (b1, b2, _, _) in view.impulse_joints.attached_joints(h) {
+                let other = if b1 == h { b2 } else { b1 };
+                if other != h && self.is_fixated(other) {
+                    seeds.push((other, 0.0));
                 }
             }
             // The momentum is shared by what it reaches.
