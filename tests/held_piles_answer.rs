@@ -205,7 +205,11 @@ fn a_held_pile_falls_when_its_ground_is_moved_down() {
     let mut layer = ContactLayer::new();
     layer.set_speedups(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
-    assert_eq!(layer.speedups().unwrap().stats().fixated, 20, "the pile is held");
+    assert_eq!(
+        layer.speedups().unwrap().stats().fixated,
+        20,
+        "the pile is held"
+    );
     let before = positions(&scene.world, &boxes);
     let g = &mut scene.world.bodies[ground];
     let at = g.translation();
@@ -233,6 +237,9 @@ fn a_held_box_the_user_disables_stays_disabled() {
     }
     common::run_validated(&mut scene, &mut layer, SETTLE, 200);
     for &h in &tops {
-        assert!(!scene.world.bodies[h].is_enabled(), "box {h:?} was enabled again");
+        assert!(
+            !scene.world.bodies[h].is_enabled(),
+            "box {h:?} was enabled again"
+        );
     }
 }
