@@ -317,7 +317,11 @@ fn fixation_leaves_no_hanging_sleeper_in_the_suite() {
             hanging.push(format!("{}: {}", case.name, describe(&on)));
         }
     }
-    assert!(hanging.is_empty(), "hanging sleepers:\n{}", hanging.join("\n"));
+    assert!(
+        hanging.is_empty(),
+        "hanging sleepers:\n{}",
+        hanging.join("\n")
+    );
 }
 
 #[test]
