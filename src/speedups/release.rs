@@ -173,38 +173,53 @@ impl SpeedUpState {
         seeds.sort_by_key(|&(h, _)| key(h));
         let mut out: Vec<RigidBodyHandle> = Vec::new();
         for (h, budget) in seeds {
-            out.push(h);
-            if !self.config.release_group {
-                continue;
-            }
-            let mut left = budget - held_mass(view, h);
-            let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
-            let mut queue = std::collections::VecDeque::from([key(h)]);
-            while let Some(k) = queue.pop_front() {
-                if left <= 0.0 {
-                    break;
-                }
-                let Some(held) = self.held.get(&k) else {
-                    continue;
-                };
-                let forward = held.links.iter().map(|&l| key(l));
-                let back = self
-                    .linked
-                    .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
-                    .map(|&(_, held)| held);
-                for m in forward.chain(back) {
-                    let Some(next) = self.held.get(&m) else {
-                        continue;
-                    };
-                    if left > 0.0 && seen.insert(m) {
-                        left -= held_mass(view, next.handle);
-                        out.push(next.handle);
-                        queue.push_back(m);
-                    }
-                }
+            if self.config.release_group {
+                out.extend(self.held_group(h, budget, |b| held_mass(view, b)));
+            } else {
+                out.push(h);
             }
         }
         self.queue_releases(out);
+    }
+
+    /// `h` and the held bodies linked to it (those it touched when it was held, and
+    /// those that touched it), transitively, nearest first, while `budget` kg of
+    /// their `mass` lasts (infinite: the whole held group). O(bodies found × their
+    /// links · log).
+    fn held_group(
+        &self,
+        h: RigidBodyHandle,
+        budget: f32,
+        mass: impl Fn(RigidBodyHandle) -> f32,
+    ) -> Vec<RigidBodyHandle> {
+        let mut out = vec![h];
+        let mut left = budget - mass(h);
+        let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
+        let mut queue = std::collections::VecDeque::from([key(h)]);
+        while let Some(k) = queue.pop_front() {
+            let Some(held) = self.held.get(&k) else {
+                continue;
+            };
+            let forward = held.links.iter().map(|&l| key(l));
+            let back = self
+                .linked
+                .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
+                .map(|&(_, held)| held);
+            for m in forward.chain(back) {
+                if left <= 0.0 {
+                    return out;
+                }
+                let Some(next) = self.held.get(&m) else {
+                    continue;
+                };
+                if seen.insert(m) {
+                    left -= mass(next.handle);
+                    out.push(next.handle);
+                    queue.push_back(m);
+                }
+            }
+        }
+        out
     }
 
     /// Releases the held bodies whose remembered support is gone (a supporter removed,
@@ -319,29 +334,11 @@ impl SpeedUpState {
         h: RigidBodyHandle,
         mods: &mut crate::logic::hooks::ContactMods,
     ) -> Vec<RigidBodyHandle> {
-        let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
-        let mut out = vec![h];
-        let mut queue = vec![key(h)];
-        while self.config.release_group {
-            let Some(k) = queue.pop() else { break };
-            let Some(held) = self.held.get(&k) else {
-                continue;
-            };
-            let forward = held.links.iter().map(|&l| key(l));
-            let back = self
-                .linked
-                .range((k, (0, 0))..=(k, (u32::MAX, u32::MAX)))
-                .map(|&(_, held)| held);
-            let next: Vec<(u32, u32)> = forward.chain(back).collect();
-            for m in next {
-                if let Some(held) = self.held.get(&m) {
-                    if seen.insert(m) {
-                        out.push(held.handle);
-                        queue.push(m);
-                    }
-                }
-            }
-        }
+        let mut out = if self.config.release_group {
+            self.held_group(h, f32::INFINITY, |_| 0.0)
+        } else {
+            vec![h]
+        };
         out.sort_by_key(|&b| key(b));
         for &b in &out {
             self.repair_wake(b, mods);

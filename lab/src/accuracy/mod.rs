@@ -1,4 +1,4 @@
-//! Accuracy that a physicist would trust (issue 11): paired seed ensembles,
+//! Accuracy that a physicist would trust: paired seed ensembles,
 //! chaos-robust observables, and equivalence against the reference's own
 //! discretisation error. Definitions with units: `docs/accuracy.md`.
 //!
@@ -102,11 +102,7 @@ pub fn tolerances(
     for r in refinements {
         check_pairs(r, reference)?;
         for (j, t) in tol.iter_mut().enumerate() {
-            match paired_interval(&differences(r, reference, j)) {
-                Ok(iv) => *t = t.max(iv.bound()),
-                Err(StatsError::NonFinite { .. }) => *t = f64::NAN,
-                Err(e) => return Err(e),
-            }
+            stats::widen_tolerance(t, &differences(r, reference, j))?;
         }
     }
     Ok(tol)

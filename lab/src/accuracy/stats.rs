@@ -211,6 +211,18 @@ impl Interval {
     }
 }
 
+/// Widens a tolerance to one refinement's paired differences from the reference:
+/// the larger of `t` and the far end of their 95 % interval; NaN when a difference
+/// is not finite (nothing is then equivalent on it). O(K).
+pub fn widen_tolerance(t: &mut f64, differences: &[f64]) -> Result<(), StatsError> {
+    match paired_interval(differences) {
+        Ok(iv) => *t = t.max(iv.bound()),
+        Err(StatsError::NonFinite { .. }) => *t = f64::NAN,
+        Err(e) => return Err(e),
+    }
+    Ok(())
+}
+
 /// The 95 % Student-t interval of the mean of paired differences `d` (one per seed):
 /// `mean ± t(0.975, k - 1) · sd / √k`. O(k).
 ///

@@ -174,11 +174,7 @@ pub fn tolerances(
                     reason: "refinement and reference ensembles do not pair".into(),
                 });
             }
-            match paired_interval(&differences(r, reference, j)) {
-                Ok(iv) => *t = t.max(iv.bound()),
-                Err(StatsError::NonFinite { .. }) => *t = f64::NAN,
-                Err(e) => return Err(e),
-            }
+            crate::accuracy::stats::widen_tolerance(t, &differences(r, reference, j))?;
         }
     }
     Ok(tol)
