@@ -97,6 +97,7 @@ impl SpeedUpState {
     /// Builds the indexes left out of snapshots (the dependents and links indexes)
     /// from the held records; the restore calls it. O(held bodies' supporters and
     /// links · log).
+    #[cfg_attr(not(feature = "serde"), allow(dead_code))] // only the snapshot restore calls it
     pub(crate) fn reindex(&mut self) {
         self.dependents = self.dependents_of_records();
         self.linked = self
