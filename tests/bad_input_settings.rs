@@ -45,7 +45,7 @@ fn set_speedups_refuses_bad_parameters() {
             ..base.clone()
         },
         SpeedUps {
-            iterations: 0,
+            iterations: Some(0),
             ..base.clone()
         },
         SpeedUps {
@@ -155,7 +155,7 @@ fn speedups_validate() {
             ..ok.clone()
         },
         SpeedUps {
-            iterations: 0,
+            iterations: Some(0),
             ..ok.clone()
         },
         SpeedUps {

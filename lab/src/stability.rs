@@ -172,7 +172,7 @@ pub fn reference() -> RunSpec {
         name: "reference".into(),
         mode: Mode::Layer(SpeedUps {
             cache: true,
-            iterations: 16,
+            iterations: Some(16),
             ..SpeedUps::none()
         }),
         repair: false,
@@ -219,7 +219,7 @@ pub struct StabilityCase {
     pub radius: Real,
     /// Names of the measured bodies; empty: every dynamic body, in handle order.
     pub measured: &'static [&'static str],
-    /// What the issue built the scene against (the paper's case, or the bug report's).
+    /// What the scene was built against (the paper's case, or the bug report's).
     pub built_against: &'static [Target],
     /// The combination switches (bits of [`SpeedUps::combination`]) the failures are
     /// measured on: a target's run is `base` plus the target, its control is `base`
@@ -330,7 +330,7 @@ pub fn shows(failure: Failure, run: &Outcome, control: &Outcome) -> bool {
     }
 }
 
-/// The suite, in the issue's order.
+/// The suite, in a fixed order.
 pub fn suite() -> &'static [StabilityCase] {
     &SUITE
 }
@@ -562,7 +562,7 @@ mod tests {
         }
         assert_eq!(Target::ALL.iter().filter(|t| t.bit().is_some()).count(), 7);
         match reference().mode {
-            Mode::Layer(s) => assert!(s.cache && !s.sleepy && s.iterations == 16),
+            Mode::Layer(s) => assert!(s.cache && !s.sleepy && s.iterations == Some(16)),
             m => panic!("{m:?}"),
         }
     }

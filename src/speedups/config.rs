@@ -52,9 +52,10 @@ pub struct SpeedUps {
     pub sleepy_energy: f32,
     /// Steps at rest before a body is sleepy. Default 20 (0.2 s at dt = 0.01).
     pub sleepy_steps: u32,
-    /// Solver iterations without `tweak` (Rapier's `num_solver_iterations`).
-    /// Default 4, Rapier's default.
-    pub iterations: usize,
+    /// Solver iterations without `tweak` (Rapier's `num_solver_iterations`): `None`,
+    /// the default, keeps the user's own, as set in the world's
+    /// `IntegrationParameters` (before or since the speed-ups started).
+    pub iterations: Option<usize>,
     /// Solver iterations with `tweak`. Default 1.
     pub tweak_iterations: usize,
     /// Penetration depth above which `reduce` acts, metres. Default 0.005.
@@ -101,7 +102,7 @@ impl SpeedUps {
             fixate: false,
             sleepy_energy: 0.005,
             sleepy_steps: 20,
-            iterations: 4,
+            iterations: None,
             tweak_iterations: 1,
             reduce_depth: 0.005,
             damping: 0.5,
@@ -252,7 +253,7 @@ impl SpeedUps {
         if self.sleepy_steps == 0 {
             return bad("sleepy_steps", "must be at least 1".into());
         }
-        if self.iterations == 0 {
+        if self.iterations == Some(0) {
             return bad("iterations", "must be at least 1".into());
         }
         if self.tweak_iterations == 0 {
@@ -330,7 +331,7 @@ mod tests {
                 ..base.clone()
             },
             SpeedUps {
-                iterations: 0,
+                iterations: Some(0),
                 ..base.clone()
             },
             SpeedUps {

@@ -44,6 +44,7 @@ impl SpeedUpState {
             damped: BTreeMap::new(),
             activations: BTreeMap::new(),
             user_params: None,
+            iterations_written: None,
             stats: SpeedUpStats::default(),
             sleepy_changed: Vec::new(),
             detached: false,
@@ -98,6 +99,7 @@ impl SpeedUpState {
                 a.time_until_sleep = time;
             }
         }
+        self.iterations_written = None;
         if let Some((iterations, recycling, warmstart)) = self.user_params.take() {
             let p = &mut *world.integration_parameters;
             p.num_solver_iterations = iterations;

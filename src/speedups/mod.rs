@@ -159,6 +159,10 @@ pub struct SpeedUpState {
     /// when the speed-ups started: restored as they were.
     #[cfg_attr(feature = "serde", serde(default))]
     user_params: Option<(usize, bool, f32)>,
+    /// The solver iterations the layer last wrote: a different value in the world
+    /// means the user set their own since.
+    #[cfg_attr(feature = "serde", serde(default))]
+    iterations_written: Option<usize>,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,

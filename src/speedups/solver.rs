@@ -81,13 +81,27 @@ impl SpeedUpState {
         // for a while (no tweak, no reduce, warm start and recycling on, twice the
         // iterations).
         let thin = !self.suspend_thinning;
+        // The user's own iterations: as recorded, or as the user set them since the
+        // layer last wrote them.
+        let mut user_iterations = params.num_solver_iterations;
+        if let Some(p) = &mut self.user_params {
+            if self
+                .iterations_written
+                .is_some_and(|w| w != params.num_solver_iterations)
+            {
+                p.0 = params.num_solver_iterations;
+            }
+            user_iterations = p.0;
+        }
+        let base = c.iterations.unwrap_or(user_iterations);
         params.num_solver_iterations = if !thin {
-            2 * c.iterations
+            base.saturating_mul(2)
         } else if c.tweak {
             c.tweak_iterations
         } else {
-            c.iterations
+            base
         };
+        self.iterations_written = Some(params.num_solver_iterations);
         let cache = c.cache || !thin;
         // On: the user's own recycling and warm start (recorded above), or both fully
         // on for the monitor's repair; off: both off.
