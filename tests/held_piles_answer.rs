@@ -268,9 +268,15 @@ fn a_held_box_made_dynamic_then_pushed_moves_as_a_sleeping_one() {
             }
         }
         if layered {
-            assert!(layer.speedups().unwrap().is_fixated(top), "held before the push");
+            assert!(
+                layer.speedups().unwrap().is_fixated(top),
+                "held before the push"
+            );
         } else {
-            assert!(scene.world.bodies[top].is_sleeping(), "asleep before the push");
+            assert!(
+                scene.world.bodies[top].is_sleeping(),
+                "asleep before the push"
+            );
         }
         let y0 = scene.world.bodies[top].translation().y;
         push(&mut scene.world, top);
