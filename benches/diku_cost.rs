@@ -1,4 +1,4 @@
-//! What the DIKU scene costs per simulated second (issue 10, item 6): stock Rapier,
+//! What the DIKU scene costs per simulated second: stock Rapier,
 //! brute force and layered configurations stepped in lockstep, each beside its
 //! "moving bodies only" limit.
 //!
@@ -15,7 +15,7 @@
 //! The **moving-bodies-only limit** of a world is what its steps would cost if each
 //! body Rapier integrates cost what it costs stock Rapier: per simulated second,
 //! stock's CPU time × (the world's mean integrated bodies / stock's mean awake bodies).
-//! The issue's target: a zero-violation configuration within 10% of its limit over the
+//! The target: a zero-violation configuration within 10% of its limit over the
 //! whole run.
 //!
 //! ```text

@@ -125,12 +125,8 @@
 //! | the pair's nodes *A*, *B* | [`Event::node1`] / [`Event::node2`] (handles: [`Event::body1`] / [`Event::body2`], [`Event::collider1`] / [`Event::collider2`]) | `collider1` / `collider2` |
 //! | contact group (Figs. 7–8) | [`Group`], [`ContactLayer::group_of_body`] | Rapier's islands, roughly |
 //!
-//! Before 0.2 the crate used the paper's names: `NodeKind::Rigid` / `Scripted` /
-//! `Trigger`, `EventKind::TouchBegin` … `TriggerExit`, `KindSet::TOUCH` / `TRIGGER`,
-//! `set_passive`, `Node::is_passive` and `BodyState::Passive` remain as deprecated
-//! aliases; the event's fields `a` / `b`, `body_a` / `body_b`, `collider_a` /
-//! `collider_b` and `GroupStats::groups` (now `count`) are renamed outright. Data
-//! serialised with the old names still loads. `CHANGELOG.md` lists every rename.
+//! Some of the paper's names remain as deprecated aliases, and data serialised with
+//! them still loads; `CHANGELOG.md` lists them.
 //!
 //! # The report's sections, for readers of the paper
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;

@@ -565,8 +565,8 @@ fn mismatch(snapshot: &LayerSnapshot, view: &WorldView) -> String {
 
 /// The checks of a deserialised state that later steps rely on (see the module docs).
 /// The largest step count a restored layer may hold. The analysis tells steps apart by
-/// their number, so the count must have room to grow: 2^62 steps at 1 µs each take
-/// 146,000 years, so only corrupted bytes come near it.
+/// their number, so the count must have room to grow: 2^62 steps at a million a
+/// second take 146,000 years, so only corrupted bytes come near it.
 const MAX_RESTORED_STEP: u64 = 1 << 62;
 
 fn check_state(s: &LayerState) -> std::result::Result<(), String> {

@@ -1,4 +1,4 @@
-//! The layer restores exactly what it changed and nothing else (issue 14): every
+//! The layer restores exactly what it changed and nothing else: every
 //! setting of every collider and body, the joints and the solver parameters are
 //! recorded before the layer is attached; rules, triggers, passive bodies, every
 //! speed-up, the monitor and touching tracking run, switched on and off; the user

@@ -1,5 +1,5 @@
 //! Minimised regression tests of what `tests/fuzz_operations.rs` found once it changed
-//! colliders in place (issue 14: `set_parent`, groups, enabled flags, the user's own
+//! colliders in place (`set_parent`, groups, enabled flags, the user's own
 //! flags, shapes) and `validate()` checked rule screening against Rapier. `fixed_*`
 //! failed when found and pass since the fix named in each.
 

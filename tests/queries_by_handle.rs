@@ -1,4 +1,4 @@
-//! Queries by Rapier handle, from the user's side (issue 12, item 1): what touches a
+//! Queries by Rapier handle, from the user's side: what touches a
 //! body, what holds it up, what is inside a sensor, which sensors a body is in, a
 //! body's contact group. Checked against Rapier's own narrow phase at every step; a
 //! body inserted since the last step answers empty, a removed one is an error.

@@ -2,7 +2,7 @@
 //! handler reaches Rapier's step: always with `ContactLayer::step`; in a hand-stepped
 //! loop only when the loop passes `event_handler` (or `event_handler_with`). A loop
 //! that never does keeps proximity tracking and its colliders' flags untouched; one
-//! that stops is read in full and goes back to proximity tracking (issue 10, item 4).
+//! that stops is read in full and goes back to proximity tracking.
 
 mod common;
 

@@ -1,7 +1,7 @@
 //! The user's own `PhysicsHooks` composed with the layer's (`ContactLayer::hooks_with`),
 //! stepping Rapier by hand as a Rapier user does: the user's hooks are called for
 //! exactly the pairs the user flagged, whatever the layer flags for its rules and
-//! speed-ups (issue 12, item 3; issue 14, item 3).
+//! speed-ups.
 
 mod common;
 

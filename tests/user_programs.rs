@@ -1,4 +1,4 @@
-//! Programs written as a Rapier user writes them (issue 12, item 6), asserting what
+//! Programs written as a Rapier user writes them, asserting what
 //! such a user expects, by Rapier handle:
 //! - a mixed scene (ground, ramp, 48 boxes and balls) with a sensor carried by a
 //!   kinematic platform: events per body and per sensor with their handles, the
@@ -8,7 +8,7 @@
 //!   pile is held or asleep and says so in events, and `detach` gives every body back
 //!   dynamic.
 //!
-//! The third program of the issue, a hand-stepped pipeline with the user's own hooks
+//! The third such program, a hand-stepped pipeline with the user's own hooks
 //! and event collector, is `tests/user_hooks_composed.rs` and
 //! `tests/user_sensor_events.rs`.
 

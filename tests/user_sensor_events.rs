@@ -1,7 +1,7 @@
 //! The user's own `EventHandler`, composed with the layer's through
 //! `event_handler_with`, receives exactly the collision events plain Rapier sends,
 //! sensor events included, although the layer widens sensors' collision types for its
-//! triggers (issue 14, item 3): a sensor on a fixed post over fixed ground and one
+//! triggers: a sensor on a fixed post over fixed ground and one
 //! carried by a kinematic platform over fixed geometry make pairs plain Rapier never
 //! reports.
 

@@ -3,7 +3,7 @@
 //! and the monitor (the scene of `tests/snapshot_corruption.rs`): each edit is three
 //! bytes, a position (two bytes, modulo the length) and a value to XOR in; a first
 //! byte `0xFF` instead takes the rest of the input as the whole snapshot. Asserts what
-//! issue 14 asks of `restore`: it never panics, and a layer it accepts validates at
+//! `restore` promises: it never panics, and a layer it accepts validates at
 //! restore and after each of three steps.
 
 #![no_main]

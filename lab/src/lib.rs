@@ -3,7 +3,7 @@
 //! Everything the project measures with, kept out of the plugin a Rapier user links:
 //! - [`accuracy`]: the DIKU run's measure of accuracy: chaos-robust observables,
 //!   paired seed ensembles, tolerances from the reference's own discretisation error,
-//!   the equivalence decision (issue 11; `docs/accuracy.md`);
+//!   the equivalence decision (`docs/accuracy.md`);
 //! - [`measure`]: one configuration run on a scene, timed, compared against a
 //!   reference, its plausibility violations counted (paper §7, Tables 4–5);
 //! - [`report`]: charts of speed against accuracy with the Pareto front (plotters, SVG

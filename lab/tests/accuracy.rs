@@ -1,4 +1,4 @@
-//! The accuracy measure on real DIKU runs (issue 11, item 6): a configuration identical
+//! The accuracy measure on real DIKU runs (`docs/accuracy.md`): a configuration identical
 //! to the reference is judged equivalent, bit for bit, at accuracy 0; the reference's
 //! refinements give finite tolerances; fewer than two seeds is a usage error.
 //!
@@ -94,7 +94,7 @@ fn one_ulp_changes_the_trajectory_but_not_the_verdict_machinery() {
 
 #[test]
 fn a_configurations_own_floor_is_its_run_against_itself_nudged_by_one_ulp() {
-    // What `rcg-lab diku` prints as `floor (r)` (issue 11, item 4): the configuration's
+    // What `rcg-lab diku` prints as `floor (r)`: the configuration's
     // own solver against itself, one ulp apart at the start.
     let radius = SETUP.params(7).radius;
     for spec in [RunSpec::brute_force(), RunSpec::contact_graph()] {

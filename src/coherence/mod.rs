@@ -37,9 +37,9 @@
 //! (`update.rs`): one of each per [`AWAKE_BODIES_PER_VERIFIED_SLOT`] bodies Rapier
 //! integrated in the last step, between [`VERIFY_IDLE_PER_STEP`] and
 //! [`VERIFY_PER_STEP`] ([`Coherence::verify_budget`]); a kind with at most
-//! [`VERIFY_PER_STEP`] slots is checked whole. Its cost so follows Rapier's: 96 slot
-//! reads per step (most of them cache misses, about 1 µs) were twice what Rapier's
-//! whole step costs on a sleeping 500-box pile. What it finds (changes no Rapier list
+//! [`VERIFY_PER_STEP`] slots is checked whole. Its cost so follows Rapier's: a fixed
+//! number of slot reads per step (most of them cache misses) cost more than Rapier's
+//! whole step on a sleeping box pile. What it finds (changes no Rapier list
 //! tells, below) it finds within `slots / budget` steps, or at once after
 //! [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync).
 //!
@@ -86,9 +86,9 @@
 //!   `request_full_sync`, which also drops the caches.
 //!
 //! Rejected: comparing every collider's parent, sensor and enabled flags each step.
-//! Measured at 7–10 ns per collider (each collider is its own cache line): 3.5 µs at
-//! 500 sleeping boxes, seven times Rapier's whole sleeping step (0.5 µs), and 45 µs
-//! at 5,000.
+//! Each collider is its own cache line, so on sleeping box piles this costs several
+//! times Rapier's whole sleeping step, growing with the collider count (measured:
+//! `docs/ARCHITECTURE.md`).
 //!
 //! Rejected: reading every trigger every step (a trigger over a settled pile would cost
 //! its pairs every step), and refreshing every node on every full scan (a scene that

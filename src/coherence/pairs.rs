@@ -4,8 +4,8 @@
 //! (touching or not), so the paper's list `O` of overlaps is read from it, body by
 //! body, through `NarrowPhase::contact_pairs_with` on the colliders of the bodies that
 //! moved. Walking `contact_pairs()` instead would cost in proportion to *all* pairs,
-//! resting ones included (`docs/rapier-notes.md`: 0.3–0.6 ms for 5,000 resting spheres, against a
-//! few µs for Rapier's own sleeping step).
+//! resting ones included: far more than Rapier's own sleeping step costs on a settled
+//! pile (measured: `docs/rapier-notes.md`).
 //!
 //! A collider pair seen from both of its bodies (both awake) is aggregated once: from
 //! the body with the smaller node index.

@@ -23,10 +23,10 @@ use super::*;
 /// # Why
 /// In [`Tracking::Proximity`] the analysis reads every pair of every awake body each
 /// step (paper §3.2's marks need the narrow-phase state of each overlap), which costs
-/// about half of a Rapier step on a falling pile. Rapier already knows when a
-/// collider pair starts and stops touching and reports it, for free and without
-/// changing any result, as `CollisionEvent::Started` / `Stopped` to the
-/// `EventHandler` given to its step, for pairs where either collider has
+/// a large share of a Rapier step on a falling pile (`docs/results.md`). Rapier
+/// already knows when a collider pair starts and stops touching and reports it, for
+/// free and without changing any result, as `CollisionEvent::Started` / `Stopped` to
+/// the `EventHandler` given to its step, for pairs where either collider has
 /// `ActiveEvents::COLLISION_EVENTS` (`docs/rapier-notes.md`). In touching tracking
 /// the layer is that event handler ([`TouchFeed`]) and the per-step work on contacts
 /// is proportional to the events, not to the awake pairs.
@@ -94,10 +94,10 @@ use super::*;
 /// report: call `request_full_sync`).
 ///
 /// # Rejected
-/// - Proximity tracking as the default: it costs 27–63% of a Rapier step on falling
-///   piles, for proximity edges and persist events most users never read.
-/// - Reading `contact_pairs()` (all pairs) every step: 0.3–0.6 ms at 5,000 resting
-///   spheres against a few µs for Rapier's sleeping step.
+/// - Proximity tracking as the default: it costs a large share of a Rapier step on
+///   falling piles, for proximity edges and persist events most users never read.
+/// - Reading `contact_pairs()` (all pairs) every step: on a settled pile, far more
+///   than Rapier's sleeping step (measured: `docs/rapier-notes.md`).
 /// - Switching to touching tracking whatever the stepping: a hand-stepped loop that
 ///   does not pass the layer's handler would silently see no contact at all.
 /// - A crossbeam channel as the queue: a `Mutex<Vec>` drained once per step does the
@@ -106,8 +106,8 @@ use super::*;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Tracking {
     /// Every narrow-phase pair of an awake body is read each step: proximity and
-    /// touching edges, contact details, persist events. What the speed-ups and the
-    /// monitor need; they turn it on while they run.
+    /// touching edges, contact details, persist events. In effect whenever touching
+    /// tracking is not (see above); the speed-ups and the monitor do not need it.
     Proximity,
     /// The default. Touching edges only, driven by Rapier's collision events:
     /// proximity and persistence at the price of their use. In effect under the

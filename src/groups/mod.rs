@@ -9,8 +9,8 @@
 //! itself is not expanded, so one floor carries many independent groups. Rebuilding
 //! that way costs O(members + edges) of every group whose structure changed, and in a
 //! moving pile some contact starts or ends in the one big group every step: the whole
-//! pile was traversed every step (10% of Rapier's step at 5,000 spheres, the largest
-//! item of the analysis). The groups are therefore kept **incrementally**, as Rapier's
+//! pile was traversed every step (the largest item of the analysis on a 5,000-sphere
+//! pile). The groups are therefore kept **incrementally**, as Rapier's
 //! islands (`island_manager/local_split.rs`), Box2D v3's islands and Avian's
 //! `islands/mod.rs` keep theirs:
 //!
@@ -26,7 +26,7 @@
 //!   it: the rest's ends of the ended edges to that part are joined pairwise by the
 //!   same search (they are the part's neighbours, so the searches are short). If a
 //!   search exceeds the budget ([`Groups::DEFAULT_SPLIT_BUDGET`] node expansions,
-//!   Rapier's figure; it settles 99.98% of removals on a 43k-body pyramid), the group
+//!   Rapier's own budget for its islands), the group
 //!   is **deferred**.
 //! - **At most one full split per step**: of the deferred groups, the one with the
 //!   fewest awake members (the sleepiest, as Box2D and Avian choose), then the lowest

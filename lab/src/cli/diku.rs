@@ -473,7 +473,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
 
     // 4. The trajectory deviation's floor on each reported configuration's own solver
-    // (issue 11, item 4): the configuration on the first seed against itself with every
+    // (`docs/accuracy.md`): the configuration on the first seed against itself with every
     // sphere moved by one ulp. The reported ones are those on K seeds (only the named
     // ones when every configuration runs on K seeds: two runs each).
     let reported: Vec<usize> = (3..rows.len())

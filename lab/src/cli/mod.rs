@@ -51,7 +51,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The DIKU scene under every configuration: speed against accuracy on paired
-    /// seed ensembles, table, CSV and chart (paper §7; issue 11).
+    /// seed ensembles, table, CSV and chart (paper §7; `docs/accuracy.md`).
     Diku(diku::Args),
     /// Settled piles disturbed (thrown ball, removed support, paddle) under the
     /// reference, stock Rapier and the sleep presets, judged on paired seeds.
@@ -137,7 +137,7 @@ mod tests {
     #[test]
     fn csv_files_keep_their_columns() {
         // The columns of the hand-written CSV files before the csv crate.
-        // The DIKU run's columns changed with the accuracy measure (issue 11).
+        // The DIKU run's columns changed with the accuracy measure (`docs/accuracy.md`).
         assert_eq!(
             diku::CSV_HEADER.join(","),
             "configuration,kind,cache,tweak,reduce,zero,damp,subgroup,fixate,seeds,time_s,speedup_brute,speedup_stock,accuracy,equivalent,differs,not_judged,deviation_radii,own_ulp_floor_radii,violations,hanging,launch,penetration,escape,peak_penetration_mm,resting_penetration_mm,mean_groups,mean_awake,last_second_s,left_plane"

@@ -81,7 +81,7 @@ pub enum Op {
     ToggleSensor(u8),
     /// `ColliderSet::set_parent`: moves a collider to another body, or detaches it.
     SetParent(u8, Option<u8>),
-    /// In-place collider changes (issue 14): collision groups (memberships, filter
+    /// In-place collider changes: collision groups (memberships, filter
     /// bits from the mask), solver groups, the enabled flag, the user's own hook and
     /// event flags, and the shape (a ball of radius 0.2 + 0.1·(r % 4)).
     CollisionGroups(u8, u8),
