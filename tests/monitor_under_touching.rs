@@ -15,7 +15,7 @@ use rapier_contact_graph::ContactLayer;
 use rcg_scenes::stability::*;
 use rcg_scenes::Scene;
 
-const SCENES: [fn() -> Scene; 13] = [
+const SCENES: [fn() -> Scene; 14] = [
     bounce_on_sleepers::bounce_on_sleepers,
     face_to_face::face_to_face,
     fixated_pile::fixated_pile,
@@ -27,6 +27,7 @@ const SCENES: [fn() -> Scene; 13] = [
     removed_support::removed_support,
     seesaw::seesaw,
     slow_incline::slow_incline,
+    slow_push::slow_push,
     static_moved::static_moved,
     tower::tower,
 ];
