@@ -18,6 +18,10 @@ fn fail<T>(msg: String) -> Result<T> {
 pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<()> {
     let graph = layer.graph();
     graph.validate()?;
+    // Nothing analysed yet: no graph to hold against the world.
+    if layer.current_step() == 0 {
+        return Ok(());
+    }
 
     // Nodes against bodies and static colliders.
     let mut physical_nodes = 0usize;

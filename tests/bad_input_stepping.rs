@@ -395,9 +395,15 @@ fn wrong_time_calls_before_the_first_step() {
     assert!(Error::UnknownBody(ball)
         .to_string()
         .contains("not seen by the layer yet"));
-    assert!(matches!(layer.validate(&world), Err(Error::Invariant(_))));
+    // Nothing analysed yet: nothing to hold against the world.
+    assert_eq!(layer.validate(&world), Ok(()));
     assert!(layer.graph().edge_of_bodies(ground, ball).is_none());
     let t = layer.add_timer(1.0).unwrap();
+    assert_eq!(
+        layer.validate(&world),
+        Ok(()),
+        "a timer before the first step"
+    );
     assert_eq!(layer.timer_ticks(t), Ok(0));
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let found = no_panic("monitor before the first step", || {
@@ -406,4 +412,16 @@ fn wrong_time_calls_before_the_first_step() {
             .len()
     });
     assert_eq!(found, 0);
+}
+
+#[test]
+fn validate_before_the_first_step_is_ok_and_after_it_checks_the_world() {
+    let (mut world, _, _) = ball_on_ground();
+    let mut layer = ContactLayer::new();
+    layer.validate(&world).unwrap();
+    layer.step(&mut world);
+    layer.validate(&world).unwrap();
+    // Another world: the layer's graph does not match it.
+    let other = foreign_world(3);
+    assert!(layer.validate(&other).is_err());
 }

@@ -248,7 +248,10 @@ impl ContactLayer {
     /// groups', and the graph against the world — one node per body and per static
     /// collider with the right kind, an edge with proximity for every Rapier pair of
     /// two nodes that Table 2 allows, the touching state equal to Rapier's, and no
-    /// proximate edge without its Rapier pair. O(nodes + edges + Rapier pairs).
+    /// proximate edge without its Rapier pair. Before the first step there is nothing
+    /// to hold against the world: `Ok`. After an edit of the world since the last
+    /// step, the layer is behind the world until the next one, and says so. O(nodes +
+    /// edges + Rapier pairs).
     pub fn validate(&self, world: &PhysicsWorld) -> Result<()> {
         crate::validate::validate_layer(self, &WorldView::from(world))
     }
