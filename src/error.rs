@@ -23,6 +23,8 @@ pub enum Error {
     UnknownBody(RigidBodyHandle),
     /// The collider has no node (only parentless colliders have their own node).
     UnknownCollider(ColliderHandle),
+    /// The collider exists but is not a sensor (a sensor query was asked of it).
+    NotASensor(ColliderHandle),
     /// The node exists but is not of a kind the call accepts.
     WrongKind {
         /// The node.
@@ -83,6 +85,7 @@ impl fmt::Display for Error {
                 "rigid body {h:?} has no node (removed, or not seen by the layer yet)"
             ),
             Error::UnknownCollider(h) => write!(f, "collider {h:?} has no node"),
+            Error::NotASensor(h) => write!(f, "collider {h:?} is not a sensor"),
             Error::WrongKind { node, expected } => {
                 write!(f, "node {node:?} is not {expected}")
             }

@@ -163,8 +163,11 @@ fn new_bodies_answer_empty_and_removed_ones_are_errors() {
     // A collider that is not a sensor, or not in the world.
     assert_eq!(
         layer.sensor_contents(&world.colliders, ledge),
-        Err(Error::UnknownCollider(ledge))
+        Err(Error::NotASensor(ledge))
     );
+    assert!(Error::NotASensor(ledge)
+        .to_string()
+        .contains("is not a sensor"));
     world.remove_collider(sensor);
     assert_eq!(
         layer.sensor_contents(&world.colliders, sensor),

@@ -164,15 +164,17 @@ impl ContactLayer {
 
     /// The bodies and static colliders inside a sensor collider (their colliders
     /// intersect it), sorted by node. Empty for a sensor inserted since the last step;
-    /// `Err(UnknownCollider)` for a collider `colliders` lacks or that is not a sensor.
-    /// O(degree of its trigger).
+    /// `Err(UnknownCollider)` for a collider `colliders` lacks, `Err(NotASensor)` for
+    /// one that is not a sensor. O(degree of its trigger).
     pub fn sensor_contents(
         &self,
         colliders: &ColliderSet,
         sensor: ColliderHandle,
     ) -> Result<Vec<Touching>> {
-        if !colliders.get(sensor).is_some_and(|c| c.is_sensor()) {
-            return Err(Error::UnknownCollider(sensor));
+        match colliders.get(sensor) {
+            None => return Err(Error::UnknownCollider(sensor)),
+            Some(c) if !c.is_sensor() => return Err(Error::NotASensor(sensor)),
+            Some(_) => {}
         }
         let Some(t) = self.graph.node_of_sensor(sensor) else {
             return Ok(Vec::new());
