@@ -17,17 +17,19 @@
 //! - **damp**: Rapier's linear damping on every dynamic body, the originals restored
 //!   when off. O(bodies) per configuration change.
 //! - **subgroup**: sleepy bodies insulate groups in the traversal. O(1) per edge.
-//! - **fixate**: a sleepy body is held (body type fixed) and released, type and
-//!   velocities restored exactly, when a fast body that is not sleepy touches it; a
-//!   held body with only fixed partners is parked out of Rapier's active set; what
-//!   held it up is remembered and judged again when it may be gone. O(refreshed
-//!   bodies' contacts + held bodies the step's changes reach).
+//! - **fixate**: a sleepy body is held (body type fixed); a held body with only fixed
+//!   partners is parked out of Rapier's active set; what held it up is remembered and
+//!   judged again when it may be gone. It is released, type and velocities restored
+//!   exactly, before a moving body reaches it, with as much of its held group as the
+//!   disturbance can move, when its support goes, or when the user changes its type
+//!   (`release.rs`). O(refreshed bodies' contacts + fast bodies × log bodies + held
+//!   bodies the step's changes reach).
 //!
 //! Per step, O(awake bodies) for the energy tracking, plus O(changes) Rapier writes;
 //! a full pass over the bodies only when the configuration or the body count changes.
 
 mod config;
-mod hold; // fixation: held records, fixate and release decisions, their application
+mod hold; // fixation: held records, fixate decisions, holds and releases applied
 mod lifecycle; // new, reconfigure, detach, and the restore of the user's world
 mod park; // held bodies taken out of Rapier's active set
 mod release; // what releases a held body, and how far a release reaches
