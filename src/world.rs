@@ -29,7 +29,7 @@ pub struct WorldView<'a> {
     /// The narrow phase (its contact pairs become physical edges).
     pub narrow_phase: &'a NarrowPhase,
     /// The broad phase, if at hand: the speed-ups ask it which held bodies a moving
-    /// body is about to reach ([`crate::speedups::SpeedUps::release_speed`]); without
+    /// body is about to reach (see `SpeedUps::release_speed`); without
     /// it they release only the held bodies a moving body already touches.
     pub broad_phase: Option<&'a BroadPhaseBvh>,
     /// Islands (the active set tells which bodies are awake).

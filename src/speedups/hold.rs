@@ -138,13 +138,16 @@ impl SpeedUpState {
     }
 
     /// Wakes a body for the monitor's repair: releases it if fixated, and starts its
-    /// rest count again (not sleepy, not sleep-eligible), so that its group is not put
-    /// back to sleep before it has moved. O(1).
+    /// rest count again ([`Self::restart_rest`]). O(pending releases · log).
     pub(crate) fn repair_wake(&mut self, h: RigidBodyHandle, mods: &mut ContactMods) {
-        if self.is_fixated(h) && !self.to_release.contains(&h) {
-            self.to_release.push(h);
-            self.stats.releases = self.stats.releases.saturating_add(1);
-        }
+        self.queue_releases([h]);
+        self.restart_rest(h, mods);
+    }
+
+    /// Starts a body's rest count again (not sleepy, not sleep-eligible, no fixation
+    /// pending), so that its group is not put back to sleep before it has moved.
+    /// O(pending fixations).
+    pub(super) fn restart_rest(&mut self, h: RigidBodyHandle, mods: &mut ContactMods) {
         self.to_fix.retain(|f| f.handle != h);
         let r = self.rest_mut(h);
         r.steps = 0;
@@ -173,13 +176,16 @@ impl SpeedUpState {
         // other than the root are dynamic: one the user joined to a multibody as a
         // link since it was fixated is released now, before Rapier's step.
         if !self.held.is_empty() && world.multibody_joints.multibodies().next().is_some() {
-            for held in self.held.values() {
-                let link = world.multibody_joints.rigid_body_link(held.handle);
-                if link.is_some_and(|l| l.id != 0) && !self.to_release.contains(&held.handle) {
-                    self.to_release.push(held.handle);
-                    self.stats.releases = self.stats.releases.saturating_add(1);
-                }
-            }
+            let links: Vec<RigidBodyHandle> = self
+                .held
+                .values()
+                .map(|held| held.handle)
+                .filter(|&h| {
+                    let link = world.multibody_joints.rigid_body_link(h);
+                    link.is_some_and(|l| l.id != 0)
+                })
+                .collect();
+            self.queue_releases(links);
         }
     }
 

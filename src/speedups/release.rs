@@ -94,24 +94,22 @@ impl SpeedUpState {
             let Some(rb) = view.bodies.get(h) else {
                 continue;
             };
-            let speed = rb.linvel().length() + rb.angvel().length() * body_radius(view, rb);
             let simulated = node.kind().is_simulated();
-            let budget = match node.kind() {
-                k if k.is_simulated() => {
-                    if !node.is_awake()
-                        || self.is_sleepy(h)
-                        || rb.linvel().length() <= self.config.release_speed
-                    {
-                        continue;
-                    }
-                    if self.config.release_speed > 0.0 {
-                        REACH_MASS_MARGIN * rb.mass() * speed / self.config.release_speed
-                    } else {
-                        f32::INFINITY
-                    }
-                }
-                NodeKind::Kinematic if crate::world::moves(rb) => f32::INFINITY,
-                _ => continue,
+            let moving = if simulated {
+                node.is_awake()
+                    && !self.is_sleepy(h)
+                    && rb.linvel().length() > self.config.release_speed
+            } else {
+                node.kind() == NodeKind::Kinematic && crate::world::moves(rb)
+            };
+            if !moving {
+                continue;
+            }
+            let speed = rb.linvel().length() + rb.angvel().length() * body_radius(view, rb);
+            let budget = if simulated && self.config.release_speed > 0.0 {
+                REACH_MASS_MARGIN * rb.mass() * speed / self.config.release_speed
+            } else {
+                f32::INFINITY
             };
             let from = seeds.len();
             match view.broad_phase {
@@ -238,9 +236,7 @@ impl SpeedUpState {
             let Some(n) = graph.node_of_body(held.handle) else {
                 continue;
             };
-            let lo = (n, (0, 0));
-            let hi = (n, (u32::MAX, u32::MAX));
-            for &(_, d) in self.dependents.range(lo..=hi) {
+            for d in self.dependents_of(n) {
                 if seen.insert(d) {
                     queue.push(d);
                 }
@@ -267,6 +263,30 @@ impl SpeedUpState {
                 seeds.push((h, f32::INFINITY));
             }
         }
+    }
+
+    /// Releases a held body for the monitor's repair of an unresponsive body (one an
+    /// awake body pushes into), with the held bodies it touched when it was held or
+    /// that touched it, transitively when `release_group` is on (the whole held part
+    /// of its group, as the user's release), each with its rest count started again
+    /// (as [`Self::repair_wake`]). The bodies released, in handle order. O(released
+    /// bodies × their links · log).
+    pub(crate) fn repair_release_group(
+        &mut self,
+        h: RigidBodyHandle,
+        mods: &mut crate::logic::hooks::ContactMods,
+    ) -> Vec<RigidBodyHandle> {
+        let mut out = if self.config.release_group {
+            self.held_group(h, f32::INFINITY, |_| 0.0)
+        } else {
+            vec![h]
+        };
+        out.sort_by_key(|&b| key(b));
+        self.queue_releases(out.iter().copied());
+        for &b in &out {
+            self.restart_rest(b, mods);
+        }
+        out
     }
 
     /// What a body about to be held touches now: the bodies at the other end of its
@@ -320,29 +340,4 @@ fn body_radius(view: &WorldView, rb: &rapier3d::prelude::RigidBody) -> f32 {
             (aabb.center() - centre).length() + aabb.half_extents().length()
         })
         .fold(0.0, f32::max)
-}
-
-impl SpeedUpState {
-    /// Releases a held body for the monitor's repair of an unresponsive body (one an
-    /// awake body pushes into), with the held bodies it touched when it was held or
-    /// that touched it, transitively when `release_group` is on (the whole held part
-    /// of its group, as the user's release), each with its rest count started again
-    /// ([`Self::repair_wake`]). The bodies released, in handle order. O(released
-    /// bodies × their links · log).
-    pub(crate) fn repair_release_group(
-        &mut self,
-        h: RigidBodyHandle,
-        mods: &mut crate::logic::hooks::ContactMods,
-    ) -> Vec<RigidBodyHandle> {
-        let mut out = if self.config.release_group {
-            self.held_group(h, f32::INFINITY, |_| 0.0)
-        } else {
-            vec![h]
-        };
-        out.sort_by_key(|&b| key(b));
-        for &b in &out {
-            self.repair_wake(b, mods);
-        }
-        out
-    }
 }

@@ -147,7 +147,7 @@ impl SpeedUpState {
 
     /// The held bodies that remember node `n` as a supporter, from the dependents
     /// index. O(log + their number).
-    fn dependents_of(&self, n: NodeId) -> impl Iterator<Item = (u32, u32)> + '_ {
+    pub(super) fn dependents_of(&self, n: NodeId) -> impl Iterator<Item = (u32, u32)> + '_ {
         self.dependents
             .range((n, (0, 0))..=(n, (u32::MAX, u32::MAX)))
             .map(|&(_, d)| d)
