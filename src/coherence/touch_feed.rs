@@ -581,9 +581,12 @@ impl Coherence {
         changed.append(&mut again);
         self.settle_touch_edges(graph, &changed);
         if settled_twice {
-            // Those edges are in the touched list twice: keep the first.
+            // Those edges are in the touched list twice (keep the first), or were
+            // touched by the events and removed here (the rescan found no touching
+            // pair left): drop those.
             let mut seen = std::collections::HashSet::new();
-            self.touched.retain(|e| seen.insert(*e));
+            self.touched
+                .retain(|&e| graph.edge(e).is_some() && seen.insert(e));
         }
     }
 
