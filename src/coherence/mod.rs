@@ -108,6 +108,7 @@ pub(crate) mod pairs;
 mod queries;
 mod touch_feed;
 mod triggers;
+mod unseen;
 mod update;
 
 pub use obsolete::aabbs_obsolete;
@@ -258,6 +259,15 @@ pub struct Coherence {
     /// [`Coherence::same_world`]). Addresses: not part of a snapshot.
     #[cfg_attr(feature = "serde", serde(skip))]
     world_mark: Cache<Option<(usize, usize)>>,
+    /// A few awake bodies as the last update saw them: tells a Rapier step the layer
+    /// did not see (see `unseen.rs`). Not part of a snapshot: a restored layer checks
+    /// from its first update on.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    witness: Cache<unseen::StepWitness>,
+    /// Whether the pre-step found a Rapier step the layer did not see (reported in
+    /// the next update's counters).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    unseen_step: bool,
 }
 
 /// What a trigger's read depends on besides the bodies it meets: its sensor collider's
@@ -317,10 +327,8 @@ impl std::fmt::Debug for TriggerState {
 
 impl TriggerState {
     fn of(c: &rapier3d::geometry::Collider) -> Self {
-        let p = c.position();
-        let (t, r) = (p.translation, p.rotation);
         Self {
-            pose: [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits),
+            pose: crate::util::rapier::pose_bits(c.position()),
             enabled: c.is_enabled(),
             parent: c.parent(),
             shape: std::sync::Arc::as_ptr(&c.shared_shape().0) as *const () as usize,

@@ -150,6 +150,12 @@ pub struct WalkCounters {
     pub collider_pairs: usize,
     /// Edges refreshed from a collider pair.
     pub edges: usize,
+    /// Whether Rapier stepped since the last analysis without the layer (the user's
+    /// own `world.step()`, or another layer's step) and this analysis therefore read
+    /// the world in full (touching tracking only; see
+    /// [`ContactLayer::pre_step`](crate::ContactLayer::pre_step)).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub unseen_step: bool,
 }
 
 /// The edge a collider pair belongs to, or `None` if the pair makes no edge (Table 2

@@ -168,7 +168,11 @@ impl Coherence {
         self.passive_changed.clear();
         self.awake_flips.clear();
         self.kind_changes = 0;
-        self.counters = WalkCounters::default();
+        self.counters = WalkCounters {
+            unseen_step: std::mem::take(&mut self.unseen_step),
+            ..WalkCounters::default()
+        };
+        self.witness.record(view.bodies, view.islands);
 
         // 1. Node upkeep.
         self.pending_triggers.clear();

@@ -40,7 +40,15 @@ impl ContactLayer {
     /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
     /// is passive; O(passive bodies) while some are (their joints are checked when the
     /// world has impulse joints, their multibody membership when it has multibodies).
+    ///
+    /// It also tells whether Rapier stepped since the last analysis without the
+    /// layer (the user's own `world.step()`, another layer's step): under touching
+    /// tracking the next analysis then reads the world in full once and reports
+    /// `StepStats::walk.unseen_step` (`docs/ARCHITECTURE.md`, "Steps the layer did not
+    /// see", lists the supported loops). O(1) for that look.
     pub fn pre_step(&mut self, mut world: WorldMut) {
+        self.coherence
+            .check_unseen_step(world.bodies, world.islands);
         let touching = self.touching_in_effect();
         if touching || !self.coherence.touch_flagged().is_empty() {
             self.coherence.sync_touch_flags(world.colliders, touching);

@@ -78,10 +78,7 @@ pub(super) fn supporters_now(
 
 /// A pose as bits, for ordering (`None` first).
 fn pose_bits(p: Option<Pose>) -> Option<[u32; 7]> {
-    p.map(|p| {
-        let (t, r) = (p.translation, p.rotation);
-        [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits)
-    })
+    p.as_ref().map(crate::util::rapier::pose_bits)
 }
 
 /// The pose of a static supporter: its body's, or its collider's if it has no body.

@@ -18,3 +18,10 @@ pub(crate) fn reevaluate_pairs(collider: &mut Collider) {
     collider.set_collision_groups(other);
     collider.set_collision_groups(groups);
 }
+
+/// A pose as the bits of its translation and rotation: for exact comparison and
+/// ordering. O(1).
+pub(crate) fn pose_bits(p: &rapier3d::math::Pose) -> [u32; 7] {
+    let (t, r) = (p.translation, p.rotation);
+    [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits)
+}
