@@ -3,7 +3,8 @@
 //! sensor events included, although the layer widens sensors' collision types for its
 //! triggers: a sensor on a fixed post over fixed ground and one
 //! carried by a kinematic platform over fixed geometry make pairs plain Rapier never
-//! reports.
+//! reports. A handler wired by hand around `event_handler` does the same through
+//! `user_event_filter`.
 
 mod common;
 
@@ -111,6 +112,87 @@ fn the_users_handler_gets_rapiers_own_sensor_events_despite_widening() {
         widened_pairs > 0,
         "the scene makes sensor events only the widening causes"
     );
+}
+
+/// A handler wired by hand: the user's own calls the layer's for every event, and
+/// handles itself what `filter` passes (`None`: everything, the composition the docs
+/// refuse).
+struct ByHand<'a> {
+    layer: &'a rapier_contact_graph::coherence::TouchFeed,
+    filter: Option<rapier_contact_graph::coherence::UserEventFilter<'a>>,
+    mine: &'a Recorder,
+}
+
+impl EventHandler for ByHand<'_> {
+    fn handle_collision_event(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        event: CollisionEvent,
+        pair: Option<&ContactPair>,
+    ) {
+        self.layer
+            .handle_collision_event(bodies, colliders, event, pair);
+        if self
+            .filter
+            .is_none_or(|f| f.passes(bodies, colliders, &event))
+        {
+            self.mine
+                .handle_collision_event(bodies, colliders, event, pair);
+        }
+    }
+
+    fn handle_contact_force_event(
+        &self,
+        _: Real,
+        _: &RigidBodySet,
+        _: &ColliderSet,
+        _: &ContactPair,
+        _: Real,
+    ) {
+    }
+
+    fn handle_soft_body_tear_event(&self, _: &SoftBodySet, _: &SoftBodyTearEvent) {}
+}
+
+/// The hand-wired composition with the layer's filter gets plain Rapier's events
+/// exactly; without it, the events of the layer's flags and widening reach the
+/// user's handler (which is why the docs support only the filtered one).
+#[test]
+fn a_handler_wired_by_hand_gets_rapiers_own_events_through_the_filter() {
+    for filtered in [true, false] {
+        let mut plain = world();
+        let mut layered = world();
+        let (mine, theirs) = (Recorder::default(), Recorder::default());
+        let mut layer = ContactLayer::new();
+        layer.set_trigger_widening(true);
+        let mut extra = 0;
+        for step in 0..240 {
+            plain.step_with_events(&(), &mine);
+            layer.pre_step((&mut layered).into());
+            {
+                let handler = ByHand {
+                    layer: layer.event_handler(),
+                    filter: filtered.then(|| layer.user_event_filter()),
+                    mine: &theirs,
+                };
+                layered.step_with_events(&layer.hooks(), &handler);
+            }
+            layer.analyze(WorldView::from(&layered));
+            layer.validate(&layered).unwrap();
+            let a: Vec<_> = std::mem::take(&mut *mine.0.lock().unwrap());
+            let b: Vec<_> = std::mem::take(&mut *theirs.0.lock().unwrap());
+            if filtered {
+                assert_eq!(a, b, "step {step}");
+            }
+            extra += b.len() - a.len().min(b.len());
+        }
+        assert_eq!(
+            extra > 0,
+            !filtered,
+            "filtered {filtered}: {extra} extra events"
+        );
+    }
 }
 
 /// Two handlers in one: the layer's (with the user's) and a recorder of everything

@@ -110,11 +110,13 @@ mod touch_feed;
 mod triggers;
 mod unseen;
 mod update;
+mod user_events;
 
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
 pub(crate) use touch_feed::TouchEvent;
-pub use touch_feed::{TouchFeed, Tracking, WithUser};
+pub use touch_feed::{TouchFeed, Tracking};
+pub use user_events::{UserEventFilter, WithUser};
 
 use std::collections::BTreeMap;
 

@@ -1,14 +1,12 @@
-//! Touch transitions from Rapier's own collision events: [`Tracking`], the layer's
-//! [`TouchFeed`] and [`WithUser`]. The design is written out on [`Tracking`].
+//! Touch transitions from Rapier's own collision events: [`Tracking`] and the layer's
+//! [`TouchFeed`]. The design is written out on [`Tracking`]; the user's own handler
+//! beside the layer's is `user_events.rs`.
 
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 
-use rapier3d::dynamics::RigidBodyType;
 use rapier3d::dynamics::{SoftBodySet, SoftBodyTearEvent};
-use rapier3d::geometry::{
-    ActiveCollisionTypes, ColliderSet, CollisionEvent, CollisionEventFlags, ContactPair,
-};
+use rapier3d::geometry::{ColliderSet, CollisionEvent, CollisionEventFlags, ContactPair};
 use rapier3d::math::Real;
 use rapier3d::pipeline::{ActiveEvents, EventHandler};
 use rapier3d::prelude::{ColliderHandle, RigidBodySet};
@@ -86,7 +84,7 @@ use super::*;
 /// pairs read at once, so a collider inserted while another was removed loses no
 /// contact. The flag changes no trajectory bit (tested). A user's own `EventHandler`
 /// must then see only the events Rapier would have sent without the layer:
-/// [`WithUser`] forwards an event only when one of its colliders carries the flag by
+/// [`WithUser`](super::WithUser) forwards an event only when one of its colliders carries the flag by
 /// the user's own doing.
 ///
 /// Switching the flag off on a collider the layer flagged, while touching tracking is
@@ -125,7 +123,7 @@ pub(crate) struct TouchEvent {
 }
 
 /// The layer's `EventHandler`: collects the touch transitions of the step for the
-/// analysis. Pass it (or [`WithUser`]) to Rapier's step when stepping Rapier yourself
+/// analysis. Pass it (or [`WithUser`](super::WithUser)) to Rapier's step when stepping Rapier yourself
 /// with touching tracking on. Cheap: one push per event, under a mutex.
 #[derive(Debug, Default)]
 pub struct TouchFeed {
@@ -176,115 +174,6 @@ impl EventHandler for TouchFeed {
     }
 
     fn handle_soft_body_tear_event(&self, _soft_bodies: &SoftBodySet, _event: &SoftBodyTearEvent) {}
-}
-
-/// The layer's [`TouchFeed`] together with the user's own `EventHandler`: the layer
-/// gets every touch transition, the user exactly the events Rapier would send them
-/// without the layer (a collision event only when one of its colliders has
-/// `COLLISION_EVENTS` by the user's doing; every contact-force event, whose flag the
-/// layer never sets). Made by
-/// [`ContactLayer::event_handler_with`](crate::ContactLayer::event_handler_with).
-///
-/// Sensor events: the layer widens sensors' collision types (see
-/// [`ContactLayer::set_trigger_widening`](crate::ContactLayer::set_trigger_widening)),
-/// so Rapier also reports sensor pairs that the user's own types exclude (a sensor on
-/// a fixed body meeting fixed geometry). Such an event is not forwarded: the user
-/// sees a sensor event only when the pair passes the collision types the user gave
-/// the colliders.
-pub struct WithUser<'a, H: ?Sized> {
-    pub(crate) feed: &'a TouchFeed,
-    pub(crate) flagged: &'a BTreeMap<(u32, u32), ColliderHandle>,
-    pub(crate) widened: &'a std::collections::HashMap<ColliderHandle, ActiveCollisionTypes>,
-    pub(crate) user: &'a H,
-}
-
-impl<H: ?Sized> WithUser<'_, H> {
-    /// Whether Rapier pairs the two colliders under the user's own collision types
-    /// (the layer's widening undone). O(1).
-    fn users_types_pass(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        c1: ColliderHandle,
-        c2: ColliderHandle,
-    ) -> bool {
-        let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
-            return true; // a removed collider: Rapier's own event
-        };
-        let ty = |co: &rapier3d::geometry::Collider| {
-            co.parent()
-                .and_then(|p| bodies.get(p))
-                .map_or(RigidBodyType::Fixed, |rb| rb.body_type())
-        };
-        let (t1, t2) = (ty(co1), ty(co2));
-        let types = |c, co: &rapier3d::geometry::Collider| {
-            self.widened
-                .get(&c)
-                .copied()
-                .unwrap_or(co.active_collision_types())
-        };
-        types(c1, co1).test(t1, t2) || types(c2, co2).test(t1, t2)
-    }
-}
-
-impl<H: EventHandler + ?Sized> EventHandler for WithUser<'_, H> {
-    fn handle_collision_event(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        event: CollisionEvent,
-        contact_pair: Option<&ContactPair>,
-    ) {
-        self.feed.push(event);
-        let (c1, c2) = match event {
-            CollisionEvent::Started(a, b, _) | CollisionEvent::Stopped(a, b, _) => (a, b),
-        };
-        let users = |c: ColliderHandle| {
-            !self.flagged.contains_key(&c.into_raw_parts())
-                && colliders
-                    .get(c)
-                    .is_some_and(|co| co.active_events().contains(ActiveEvents::COLLISION_EVENTS))
-        };
-        // A removed collider is gone from the set: Rapier sent the event because of
-        // the other one's flag, or of the removed one's, which the layer never set
-        // unless it is in `flagged`.
-        let removed = |c: ColliderHandle| {
-            !colliders.contains(c) && !self.flagged.contains_key(&c.into_raw_parts())
-        };
-        let sensor = match event {
-            CollisionEvent::Started(_, _, f) | CollisionEvent::Stopped(_, _, f) => {
-                f.contains(CollisionEventFlags::SENSOR)
-            }
-        };
-        if sensor && !self.users_types_pass(bodies, colliders, c1, c2) {
-            return;
-        }
-        if users(c1) || users(c2) || removed(c1) || removed(c2) {
-            self.user
-                .handle_collision_event(bodies, colliders, event, contact_pair);
-        }
-    }
-
-    fn handle_contact_force_event(
-        &self,
-        dt: Real,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        contact_pair: &ContactPair,
-        total_force_magnitude: Real,
-    ) {
-        self.user.handle_contact_force_event(
-            dt,
-            bodies,
-            colliders,
-            contact_pair,
-            total_force_magnitude,
-        );
-    }
-
-    fn handle_soft_body_tear_event(&self, soft_bodies: &SoftBodySet, event: &SoftBodyTearEvent) {
-        self.user.handle_soft_body_tear_event(soft_bodies, event);
-    }
 }
 
 impl Coherence {

@@ -328,7 +328,9 @@ impl ContactLayer {
     /// so does switching it off), and Rapier reports more sensor pairs; a user's own
     /// event handler composed with
     /// [`Self::event_handler_with`] still receives only the sensor events the user's
-    /// own types give. Sensors never push bodies, so no trajectory changes.
+    /// own types give; one wired by hand around [`Self::event_handler`] must check
+    /// [`Self::user_event_filter`] (no other composition is supported). Sensors never
+    /// push bodies, so no trajectory changes.
     ///
     /// Widening happens in the pre-step before a sensor's first Rapier step. Rapier
     /// pairs colliders that do not move only when they appear, so a sensor that was

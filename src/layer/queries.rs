@@ -142,7 +142,10 @@ impl ContactLayer {
     /// that its handler reaches Rapier's step, which lets touching tracking (the
     /// default) go on from the next step (see
     /// [`Tracking`](crate::coherence::Tracking)); a loop that never calls it is
-    /// tracked by proximity. O(1).
+    /// tracked by proximity. To give Rapier's events to a handler of one's own too,
+    /// use [`Self::event_handler_with`], or, wiring the two by hand, handle only the
+    /// events [`Self::user_event_filter`] passes: the layer's collision-event flags
+    /// and sensor widening make Rapier send events the user never asked for. O(1).
     pub fn event_handler(&self) -> &crate::coherence::TouchFeed {
         self.feed_lent
             .store(true, std::sync::atomic::Ordering::Relaxed);
@@ -159,9 +162,21 @@ impl ContactLayer {
     ) -> crate::coherence::WithUser<'a, H> {
         crate::coherence::WithUser {
             feed: self.event_handler(),
+            filter: self.user_event_filter(),
+            user,
+        }
+    }
+
+    /// Which of Rapier's collision events the user's own handler would have received
+    /// without the layer's flags and sensor widening. A handler that calls the
+    /// layer's [`Self::event_handler`] itself (wired by hand, rather than through
+    /// [`Self::event_handler_with`]) handles only the events for which
+    /// [`passes`](crate::coherence::UserEventFilter::passes) is true; otherwise it also
+    /// receives the events the layer asked Rapier for. O(1) to make.
+    pub fn user_event_filter(&self) -> crate::coherence::UserEventFilter<'_> {
+        crate::coherence::UserEventFilter {
             flagged: self.coherence.touch_flagged(),
             widened: self.logic.widened(),
-            user,
         }
     }
 
