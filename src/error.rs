@@ -25,6 +25,31 @@ pub enum Error {
     UnknownCollider(ColliderHandle),
     /// The collider exists but is not a sensor (a sensor query was asked of it).
     NotASensor(ColliderHandle),
+    /// The body set, collider set or world passed to a query is not the one the layer
+    /// last analysed (another world, or a copy of it): a handle valid in both would be
+    /// answered with the other world's contacts. Pass the world the layer steps, or
+    /// step the layer on this one first (a layer stepped on another world reads it in
+    /// full and follows it from then on; keep one layer per world).
+    ///
+    /// How it is told, in O(1): Rapier's sets keep their elements in place until they
+    /// grow, and moving a `PhysicsWorld` value does not move them, so each analysis
+    /// notes where the first body and the first collider are stored, with the body and
+    /// collider counts. A set is another world's when its count is the one analysed
+    /// and its first element is stored elsewhere. So:
+    /// - the same world, moved (`let w2 = w;`), or edited since the last step
+    ///   (bodies or colliders inserted or removed: a body inserted since answers
+    ///   empty, a removed one `UnknownBody`) is never taken for another;
+    /// - another world (or a copy) with the analysed world's body count (for a body
+    ///   set) or collider count (for a collider set) is found; one with other counts is
+    ///   not told from the analysed world edited since the last step, and is answered
+    ///   as that world (by the layer's nodes of its handles) until the layer steps on
+    ///   it;
+    /// - a world that both gained and lost bodies (colliders) since the last step,
+    ///   back to the analysed count, while its storage grew (moved) or its first
+    ///   element was removed, is taken for another until the next step;
+    /// - before the first step, and after a restore until the next step, nothing is
+    ///   compared (nothing analysed, or addresses of another process).
+    ForeignWorld,
     /// The node exists but is not of a kind the call accepts.
     WrongKind {
         /// The node.
@@ -86,6 +111,11 @@ impl fmt::Display for Error {
             ),
             Error::UnknownCollider(h) => write!(f, "collider {h:?} has no node"),
             Error::NotASensor(h) => write!(f, "collider {h:?} is not a sensor"),
+            Error::ForeignWorld => f.write_str(
+                "the set or world passed is not the one the layer last analysed (another \
+                 world, or a copy): pass the world the layer steps, or step the layer on \
+                 this world first (one layer per world)",
+            ),
             Error::WrongKind { node, expected } => {
                 write!(f, "node {node:?} is not {expected}")
             }

@@ -34,6 +34,50 @@ impl Coherence {
             .clamp(VERIFY_IDLE_PER_STEP, VERIFY_PER_STEP)
     }
 
+    /// Whether `bodies` can be the body set of the world the last update analysed, as
+    /// far as an O(1) look tells (see `Error::ForeignWorld` for what it can and cannot
+    /// tell): `false` only when the set holds as many bodies as that world did and its
+    /// first body is stored elsewhere (another world, or a copy). `true` before the
+    /// first update and after a restore (no mark yet), and for a set whose count
+    /// changed since (the same world edited: its storage may have grown and moved).
+    /// Reads the mark [`Coherence::same_world`] takes at every update. O(1) (the first
+    /// occupied slot).
+    pub(crate) fn bodies_match(&self, bodies: &rapier3d::prelude::RigidBodySet) -> bool {
+        let Some((first_body, _)) = *self.world_mark else {
+            return true;
+        };
+        if self.known_bodies != Some(bodies.len()) {
+            return true;
+        }
+        // As `same_world` takes it.
+        let now = bodies
+            .iter()
+            .next()
+            .map_or(0, |(_, b)| b as *const _ as usize);
+        now == first_body
+    }
+
+    /// [`Self::bodies_match`] for a collider set. O(1).
+    pub(crate) fn colliders_match(&self, colliders: &rapier3d::prelude::ColliderSet) -> bool {
+        let Some((_, first_collider)) = *self.world_mark else {
+            return true;
+        };
+        if self.known_colliders != colliders.len() {
+            return true;
+        }
+        let now = colliders
+            .iter()
+            .next()
+            .map_or(0, |(_, c)| c as *const _ as usize);
+        now == first_collider
+    }
+
+    /// Whether the world's body and collider sets both can be the analysed world's
+    /// ([`Self::bodies_match`], [`Self::colliders_match`]). O(1).
+    pub(crate) fn world_matches(&self, view: &WorldView) -> bool {
+        self.bodies_match(view.bodies) && self.colliders_match(view.colliders)
+    }
+
     /// The index of the last analysed step (0 before the first).
     pub fn step(&self) -> u64 {
         self.step

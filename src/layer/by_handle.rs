@@ -5,9 +5,11 @@
 //!
 //! Each query takes the set the handle belongs to, so that it can tell a body the layer
 //! has not seen yet (inserted since the last step: no contacts yet, an empty answer)
-//! from one that is not in the world (removed, or another world's: an error). The
-//! answers are as of the last analysed step. Costs are stated on each method; `degree`
-//! is the number of edges of the body's (or trigger's) node.
+//! from one that is not in the world (removed: an error), and a set of another world
+//! from the one the layer analysed (`Error::ForeignWorld`, told in O(1); its docs say
+//! exactly what the look can and cannot tell). The answers are as of the last analysed
+//! step. Costs are stated on each method; `degree` is the number of edges of the
+//! body's (or trigger's) node.
 
 use rapier3d::geometry::ColliderSet;
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, RigidBodySet};
@@ -28,16 +30,29 @@ pub enum Touching {
 
 impl ContactLayer {
     /// The node of a body in the world, `None` if the layer has not seen it yet; an
-    /// error if the world has no such body. O(1).
+    /// error if the world has no such body, or `bodies` is another world's. O(1).
     fn node_of_live_body(
         &self,
         bodies: &RigidBodySet,
         body: RigidBodyHandle,
     ) -> Result<Option<NodeId>> {
+        if !self.coherence.bodies_match(bodies) {
+            return Err(Error::ForeignWorld);
+        }
         if !bodies.contains(body) {
             return Err(Error::UnknownBody(body));
         }
         Ok(self.graph.node_of_body(body))
+    }
+
+    /// `Err(ForeignWorld)` unless both of the world's sets can be those the layer last
+    /// analysed (see [`Error::ForeignWorld`]). O(1).
+    pub(crate) fn check_world(&self, view: &WorldView) -> Result<()> {
+        if self.coherence.world_matches(view) {
+            Ok(())
+        } else {
+            Err(Error::ForeignWorld)
+        }
     }
 
     /// The nodes a node's geometric edges reach while they overlap (a trigger's
@@ -65,7 +80,8 @@ impl ContactLayer {
 
     /// The bodies and static colliders touching `body` (Rapier's contact pairs with
     /// an active contact), sorted by node. Empty for a body inserted since the last
-    /// step; `Err(UnknownBody)` for a body `bodies` lacks. O(degree).
+    /// step; `Err(UnknownBody)` for a body `bodies` lacks, `Err(ForeignWorld)` for a set
+    /// of another world ([`Error::ForeignWorld`]). O(degree).
     pub fn touching_body(
         &self,
         bodies: &RigidBodySet,
@@ -85,6 +101,7 @@ impl ContactLayer {
     /// [`Self::contact_details`]), so the answer needs neither proximity tracking nor
     /// the per-edge contact details. `world` is a `&PhysicsWorld` or a [`WorldView`]
     /// of one's own sets. `Err(UnknownBody)` for a body the world lacks,
+    /// `Err(ForeignWorld)` for another world ([`Error::ForeignWorld`]),
     /// `Err(NonFinite)` for a NaN `min_cos`. O(degree × the body's contact pairs).
     pub fn supports_of_body<'w>(
         &self,
@@ -96,6 +113,7 @@ impl ContactLayer {
             return Err(Error::NonFinite("min_cos"));
         }
         let view = world.into();
+        self.check_world(&view)?;
         let Some(n) = self.node_of_live_body(view.bodies, body)? else {
             return Ok(Vec::new());
         };
@@ -131,12 +149,15 @@ impl ContactLayer {
     /// closest distance (negative: penetration), deepest penetration, solver contact
     /// count, the sum of normal impulses, and the deepest contact's normal and the
     /// impulses' resultant (`push`), both pointing from `body` towards `other` (so
-    /// `-push` is what `other` did to `body`). Read on demand, whatever the tracking
-    /// and whether per-edge details are kept. `Ok(None)` when Rapier has no contact
-    /// pair between them (they are not near) or the layer has not seen one of them
-    /// yet. `world` is a `&PhysicsWorld` or a [`WorldView`] of one's own sets.
-    /// `Err(UnknownBody)` / `Err(UnknownCollider)` for a handle the world lacks.
-    /// O(the contact pairs of `body`'s colliders).
+    /// `-push` is what `other` did to `body`): the crate's one normal convention
+    /// ([`crate::events`], "Normals"), so `contact_details(w, b1, b2)` has the normal
+    /// of the events naming `b1` as `body1` and `-normal` asked the other way round.
+    /// Read on demand, whatever the tracking and whether per-edge details are kept.
+    /// `Ok(None)` when Rapier has no contact pair between them (they are not near) or
+    /// the layer has not seen one of them yet. `world` is a `&PhysicsWorld` or a
+    /// [`WorldView`] of one's own sets. `Err(UnknownBody)` / `Err(UnknownCollider)` for
+    /// a handle the world lacks, `Err(ForeignWorld)` for another world
+    /// ([`Error::ForeignWorld`]). O(the contact pairs of `body`'s colliders).
     pub fn contact_details<'w>(
         &self,
         world: impl Into<WorldView<'w>>,
@@ -144,6 +165,7 @@ impl ContactLayer {
         other: Touching,
     ) -> Result<Option<ContactCache>> {
         let view = world.into();
+        self.check_world(&view)?;
         let Some(n) = self.node_of_live_body(view.bodies, body)? else {
             return Ok(None);
         };
@@ -165,12 +187,16 @@ impl ContactLayer {
     /// The bodies and static colliders inside a sensor collider (their colliders
     /// intersect it), sorted by node. Empty for a sensor inserted since the last step;
     /// `Err(UnknownCollider)` for a collider `colliders` lacks, `Err(NotASensor)` for
-    /// one that is not a sensor. O(degree of its trigger).
+    /// one that is not a sensor, `Err(ForeignWorld)` for a set of another world
+    /// ([`Error::ForeignWorld`]). O(degree of its trigger).
     pub fn sensor_contents(
         &self,
         colliders: &ColliderSet,
         sensor: ColliderHandle,
     ) -> Result<Vec<Touching>> {
+        if !self.coherence.colliders_match(colliders) {
+            return Err(Error::ForeignWorld);
+        }
         match colliders.get(sensor) {
             None => return Err(Error::UnknownCollider(sensor)),
             Some(c) if !c.is_sensor() => return Err(Error::NotASensor(sensor)),
@@ -184,7 +210,8 @@ impl ContactLayer {
 
     /// The sensor colliders `body` is inside (one of its colliders intersects them),
     /// sorted by node. Empty for a body inserted since the last step;
-    /// `Err(UnknownBody)` for a body `bodies` lacks. O(degree).
+    /// `Err(UnknownBody)` for a body `bodies` lacks, `Err(ForeignWorld)` for a set of
+    /// another world ([`Error::ForeignWorld`]). O(degree).
     pub fn sensors_containing(
         &self,
         bodies: &RigidBodySet,
@@ -207,7 +234,8 @@ impl ContactLayer {
     /// touching contacts and joints, fixed and kinematic bodies insulating), itself
     /// included, in the group's member order (deterministic, not sorted). Empty for a
     /// body in no group (fixed, kinematic, passive, inserted since the last step, or
-    /// groups off); `Err(UnknownBody)` for a body `bodies` lacks. While the group's
+    /// groups off); `Err(UnknownBody)` for a body `bodies` lacks, `Err(ForeignWorld)`
+    /// for a set of another world ([`Error::ForeignWorld`]). While the group's
     /// split is deferred ([`crate::Groups::deferred`]) it may also hold bodies that no
     /// longer touch this one; [`Self::settle_groups`] finishes the split. O(group
     /// size).

@@ -214,13 +214,15 @@ impl ContactLayer {
 
     /// The node of a collider: the trigger node of a sensor, else its parent body's
     /// node, or its own for a parentless collider. `world` is a `&PhysicsWorld` or a
-    /// [`WorldView`] of one's own sets. O(1).
+    /// [`WorldView`] of one's own sets; `Err(ForeignWorld)` for another world
+    /// ([`crate::Error::ForeignWorld`]). O(1).
     pub fn node_of_collider<'w>(
         &self,
         world: impl Into<WorldView<'w>>,
         collider: ColliderHandle,
     ) -> Result<NodeId> {
         let view = world.into();
+        self.check_world(&view)?;
         let c = view
             .colliders
             .get(collider)
@@ -265,10 +267,11 @@ impl ContactLayer {
     /// two nodes that Table 2 allows, the touching state equal to Rapier's, and no
     /// proximate edge without its Rapier pair. Before the first step there is nothing
     /// to hold against the world: `Ok`. After an edit of the world since the last
-    /// step, the layer is behind the world until the next one, and says so. O(nodes +
-    /// edges + Rapier pairs).
+    /// step, the layer is behind the world until the next one, and says so. Another
+    /// world (or a copy) is `Err(ForeignWorld)` ([`crate::Error::ForeignWorld`]), not
+    /// checked against this layer. O(nodes + edges + Rapier pairs).
     pub fn validate(&self, world: &PhysicsWorld) -> Result<()> {
-        crate::validate::validate_layer(self, &WorldView::from(world))
+        self.validate_view(&WorldView::from(world))
     }
 
     /// Whether groups are computed (the `groups` switch of the speed-ups; on without
@@ -288,6 +291,7 @@ impl ContactLayer {
 
     /// [`Self::validate`] for a world given by its parts.
     pub fn validate_view(&self, view: &WorldView) -> Result<()> {
+        self.check_world(view)?;
         crate::validate::validate_layer(self, view)
     }
 }

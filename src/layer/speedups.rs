@@ -70,10 +70,15 @@ impl ContactLayer {
 
     /// Whether the body `h` is *held* in place: fixated by the speed-ups (made fixed in
     /// Rapier until released) or asleep in Rapier (read from `bodies`). Not whether
-    /// the layer knows the body: a removed or foreign handle answers `false`. This is
-    /// the `held` predicate a [`crate::monitor::Monitor`] run outside the layer takes,
-    /// and what the layer's own monitor uses. O(log fixated bodies).
+    /// the layer knows the body: a removed handle answers `false`, and so does every
+    /// handle of a set of another world (told as [`crate::Error::ForeignWorld`] says;
+    /// a predicate has no error to give). This is the `held` predicate a
+    /// [`crate::monitor::Monitor`] run outside the layer takes, and what the layer's
+    /// own monitor uses. O(log fixated bodies).
     pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
+        if !self.coherence.bodies_match(bodies) {
+            return false;
+        }
         self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
             || bodies.get(h).is_some_and(|b| b.is_sleeping())
     }
