@@ -1,11 +1,15 @@
 //! `rcg-lab disturb`: settled piles disturbed (a thrown ball, a removed floor segment,
-//! a sweeping paddle) under the reference, stock Rapier and the layer's sleep presets,
-//! judged on paired seeds against the reference ([`crate::disturb`]).
+//! a sweeping paddle; the DIKU scene's pile hit by a thrown sphere) under the
+//! reference, stock Rapier and the layer's sleep presets, judged on paired seeds
+//! against the reference ([`crate::disturb`]).
 //!
 //! ```text
 //! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--seed S]
 //!                   [--at STEP] [--after STEPS] [--quick] [--out DIR]
 //! ```
+//! `--boxes`, `--at` and `--after` apply to every scene run; without them each scene
+//! has its own ([`SCENES`]: the box piles 250 boxes, disturbed at step 300; the DIKU
+//! scene 120 spheres, hit at step 1000; 200 steps after).
 //! Per scene and seed: the reference (Rapier's defaults, sleep off), its two
 //! refinements (8 solver iterations; half the time step), then stock Rapier, the
 //! layer with `SpeedUps::default()`, `reliable_sleep()`, `reliable_sleep()` with the
@@ -15,24 +19,27 @@
 //! `+`/`-` differs upwards/downwards, `?` undecided, `!` not finite). Writes
 //! `runs.csv` (one row per run) and `results.csv` (one row per scene, configuration
 //! and observable) into `DIR` (default `target/disturb`). `--quick` (CI): 3 seeds,
-//! 150 boxes. Runs are sequential: the step times are of one core.
+//! 150 boxes, the DIKU scene's 120 spheres. Runs are sequential: the step times are
+//! of one core.
 
 use std::path::PathBuf;
 
 use rcg_scenes::disturb::DisturbParams;
 
 use crate::disturb::judge::{judge, tolerances, Comparison, Verdict};
-use crate::disturb::{self, configs, reference, refinements, Builder, Config, Outcome};
+use crate::disturb::{self, configs, reference, refinements, Config, Outcome, SceneSpec};
 use crate::disturb::{COUNT, OBSERVABLES, SCENES};
 
 /// Options of `rcg-lab disturb`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Scenes: `all` or a comma list of thrown_ball, support_removed, paddle.
+    /// Scenes: `all` or a comma list of thrown_ball, support_removed, paddle,
+    /// diku_throw.
     #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_scenes)]
     pub scenes: Scenes,
-    /// Boxes in each pile (default 250; 150 with --quick).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    /// Bodies in each pile, boxes or spheres (default: the scene's, 250 boxes and 120
+    /// spheres; with --quick 150 boxes and 120 spheres).
+    #[arg(long, visible_alias = "bodies", value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub boxes: Option<u64>,
     /// Paired seeds S, S+1, ... (at least 2; default 8; 3 with --quick).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(2..=1000))]
@@ -40,13 +47,14 @@ pub struct Args {
     /// The first seed.
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
-    /// The disturbance step (settling before it; steps of 0.01 s).
-    #[arg(long, value_name = "STEP", default_value_t = 300, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
-    pub at: u64,
-    /// Steps run after the disturbance.
-    #[arg(long, value_name = "STEPS", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
-    pub after: u64,
-    /// The CI settings: 3 seeds and 150 boxes unless given.
+    /// The disturbance step (settling before it; steps of 0.01 s; default: the
+    /// scene's, 300 for the box piles, 1000 for diku_throw).
+    #[arg(long, value_name = "STEP", value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub at: Option<u64>,
+    /// Steps run after the disturbance (default: the scene's, 200).
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub after: Option<u64>,
+    /// The CI settings: 3 seeds, 150 boxes and 120 spheres unless given.
     #[arg(long)]
     pub quick: bool,
     /// Directory for runs.csv and results.csv.
@@ -54,9 +62,9 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-/// The scenes to run, by name, in report order.
+/// The scenes to run, in report order.
 #[derive(Clone, Debug)]
-pub struct Scenes(pub Vec<(&'static str, Builder)>);
+pub struct Scenes(pub Vec<SceneSpec>);
 
 /// The scenes of a `--scenes` value; unknown names and an empty list are errors.
 pub fn parse_scenes(list: &str) -> Result<Scenes, String> {
@@ -67,9 +75,9 @@ pub fn parse_scenes(list: &str) -> Result<Scenes, String> {
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let found = SCENES
             .iter()
-            .find(|(n, _)| *n == item)
+            .find(|s| s.name == item)
             .ok_or(format!("unknown scene `{item}`"))?;
-        if !out.iter().any(|(n, _): &(&str, Builder)| *n == found.0) {
+        if !out.iter().any(|s: &SceneSpec| s.name == found.name) {
             out.push(*found);
         }
     }
@@ -80,13 +88,25 @@ pub fn parse_scenes(list: &str) -> Result<Scenes, String> {
 }
 
 impl Args {
-    /// The number of boxes and seeds after `--quick`.
-    pub fn sizes(&self) -> (usize, u64) {
-        let (boxes, seeds) = if self.quick { (150, 3) } else { (250, 8) };
-        (
-            self.boxes.map_or(boxes, |b| b as usize),
-            self.seeds.unwrap_or(seeds),
-        )
+    /// The number of seeds after `--quick`.
+    pub fn seeds(&self) -> u64 {
+        self.seeds.unwrap_or(if self.quick { 3 } else { 8 })
+    }
+
+    /// A scene's parameters (seed `--seed`) after `--quick` and the options given.
+    pub fn params(&self, scene: &SceneSpec) -> DisturbParams {
+        let d = scene.defaults;
+        let quick = if self.quick {
+            scene.quick_bodies
+        } else {
+            d.boxes
+        };
+        DisturbParams {
+            boxes: self.boxes.map_or(quick, |b| b as usize),
+            seed: self.seed,
+            at: self.at.unwrap_or(d.at),
+            after: self.after.unwrap_or(d.after),
+        }
     }
 }
 
@@ -122,7 +142,7 @@ pub const RESULTS_HEADER: [&str; 11] = [
 
 /// Runs the disturbance scenes: tables on standard output, CSV files in `--out`.
 pub fn run(args: &Args) -> Result<(), String> {
-    let (boxes, k) = args.sizes();
+    let k = args.seeds();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let mut all: Vec<Config> = vec![reference()];
@@ -132,7 +152,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut runs_rows = Vec::new();
     let mut results_rows = Vec::new();
     let started = std::time::Instant::now();
-    for &(scene, build) in &args.scenes.0 {
+    for spec in &args.scenes.0 {
+        let (scene, base) = (spec.name, args.params(spec));
         let mut ensembles: Vec<Ensemble> = Vec::new();
         for config in &all {
             let mut e = Ensemble {
@@ -142,18 +163,13 @@ pub fn run(args: &Args) -> Result<(), String> {
             };
             for seed in args.seed..args.seed + k {
                 bar.set_message(format!("{scene} {}", config.short));
-                let params = DisturbParams {
-                    boxes,
-                    seed,
-                    at: args.at,
-                    after: args.after,
-                };
-                let r = disturb::run(config, build, &params)?;
+                let params = DisturbParams { seed, ..base };
+                let r = disturb::run(config, spec.build, &params)?;
                 let mut row = vec![
                     scene.to_string(),
                     config.name.to_string(),
                     seed.to_string(),
-                    boxes.to_string(),
+                    base.boxes.to_string(),
                     r.held_at_disturbance.to_string(),
                 ];
                 row.extend(r.outcome.iter().map(|v| v.to_string()));
@@ -171,11 +187,11 @@ pub fn run(args: &Args) -> Result<(), String> {
         for e in &ensembles {
             let c = judge(&e.outcomes, reference, &tol).map_err(|e| e.to_string())?;
             for (j, cmp) in c.iter().enumerate() {
-                results_rows.push(result_row(scene, e.config.name, j, cmp, reference));
+                results_rows.push(result_row(spec, e.config.name, j, cmp, reference));
             }
             judged.push((e, c));
         }
-        bar.suspend(|| print_table(scene, boxes, k, args, &judged, &tol));
+        bar.suspend(|| print_table(spec, &base, k, &judged, &tol));
     }
     bar.finish_and_clear();
     let mut header: Vec<&str> = RUNS_HEADER.to_vec();
@@ -190,9 +206,17 @@ pub fn run(args: &Args) -> Result<(), String> {
     Ok(())
 }
 
+/// An observable's unit in a scene: `displaced` counts the scene's pile bodies.
+fn unit(scene: &SceneSpec, j: usize) -> &'static str {
+    match OBSERVABLES[j].unit {
+        "boxes" => scene.bodies,
+        u => u,
+    }
+}
+
 /// A row of `results.csv`.
 fn result_row(
-    scene: &str,
+    scene: &SceneSpec,
     config: &str,
     j: usize,
     cmp: &Comparison,
@@ -203,12 +227,11 @@ fn result_row(
         Ok(iv) => (iv.mean, iv.lo, iv.hi),
         Err(_) => (f64::NAN, f64::NAN, f64::NAN),
     };
-    let o = &OBSERVABLES[j];
     vec![
-        scene.into(),
+        scene.name.into(),
         config.into(),
-        o.key.into(),
-        o.unit.into(),
+        OBSERVABLES[j].key.into(),
+        unit(scene, j).into(),
         cmp.mean.to_string(),
         ref_mean.to_string(),
         d.to_string(),
@@ -238,10 +261,9 @@ fn num(x: f64) -> String {
 /// The table of one scene: per observable a line of means and a line of paired
 /// differences `±` the 95 % interval's half width, with the verdict.
 fn print_table(
-    scene: &str,
-    boxes: usize,
+    scene: &SceneSpec,
+    p: &DisturbParams,
     k: u64,
-    args: &Args,
     judged: &[(&Ensemble, Vec<Comparison>)],
     tol: &[f64; COUNT],
 ) {
@@ -254,8 +276,8 @@ fn print_table(
         })
         .collect::<String>();
     println!(
-        "\n{scene}: {boxes} boxes, {k} seeds from {}, disturbance at step {}, {} steps after",
-        args.seed, args.at, args.after
+        "\n{}: {} {}, {k} seeds from {}, disturbance at step {}, {} steps after",
+        scene.name, p.boxes, scene.bodies, p.seed, p.at, p.after
     );
     let mut head = format!("{:<22}{:>8}", "observable [unit]", "tol");
     for (e, _) in judged {
@@ -267,7 +289,7 @@ fn print_table(
         if judged[0].1[j].mean.is_nan() {
             continue;
         }
-        let label = format!("{} [{}]", o.key, o.unit);
+        let label = format!("{} [{}]", o.key, unit(scene, j));
         let t = if tol[j].is_finite() {
             num(tol[j])
         } else {

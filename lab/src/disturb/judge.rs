@@ -41,7 +41,8 @@ const fn obs(key: &'static str, unit: &'static str, resolution: f64, judged: boo
     }
 }
 
-/// Pile boxes displaced more than [`MOVED`] between the disturbance and the end.
+/// Pile bodies (boxes, or spheres) displaced more than [`MOVED`] between the
+/// disturbance and the end (the unit `boxes` reads `spheres` for a pile of spheres).
 pub const DISPLACED: usize = 0;
 /// The ball's final `x` (the throw runs along `+x`), m.
 pub const BALL_X: usize = 1;
@@ -49,11 +50,11 @@ pub const BALL_X: usize = 1;
 pub const BALL_Y: usize = 2;
 /// The ball's final speed, m/s.
 pub const BALL_SPEED: usize = 3;
-/// Mean height of the pile's boxes at the end, m.
+/// Mean height of the pile's bodies at the end, m.
 pub const CENTRE_Y: usize = 4;
-/// RMS horizontal distance of the boxes from their centroid at the end, m.
+/// RMS horizontal distance of the pile's bodies from their centroid at the end, m.
 pub const SPREAD: usize = 5;
-/// Kinetic energy of the boxes and the ball at the end, J.
+/// Kinetic energy of the pile and the ball at the end, J.
 pub const KE: usize = 6;
 /// Awake dynamic bodies at the end (held bodies are fixed, not counted).
 pub const AWAKE: usize = 7;
@@ -93,7 +94,7 @@ pub const OBSERVABLES: [Observable; COUNT] = [
 /// The physical observables and the awake count of a run's end; the others are
 /// left 0 for the runner to fill. `before`/`after`: the pile's positions at the
 /// disturbance and at the end (a missing box counts as displaced). The ball's are NaN
-/// without a projectile. O(boxes).
+/// without a projectile. O(pile).
 pub fn observe(
     world: &PhysicsWorld,
     pile: &[RigidBodyHandle],

@@ -1,16 +1,17 @@
 //! Disturbing a settled pile: does a configuration let a pile be moved as much as a
 //! simulation without sleep does? (paper §7, fixation; Erleben 2004, §5 on waking.)
 //!
-//! Each scene of `rcg_scenes::disturb` settles a box pile and then disturbs it (a
-//! thrown ball, a removed floor segment, a sweeping paddle). A run steps one scene on
-//! one seed under one [`Config`] and reads its [`Outcome`]: how many pile boxes moved
+//! Each scene of `rcg_scenes::disturb` settles a pile and then disturbs it (a
+//! thrown ball, a removed floor segment, a sweeping paddle in a box pile; a heavy
+//! sphere thrown into the DIKU scene's pile of spheres). A run steps one scene on
+//! one seed under one [`Config`] and reads its [`Outcome`]: how many pile bodies moved
 //! more than [`MOVED`] between the disturbance and the end, where the ball ended and
 //! how fast, the pile's centre height and horizontal spread, the kinetic energy left,
 //! the awake and held bodies, the monitor's violations and the step times. [`judge`]
 //! pairs runs with the reference on the same seeds, as the DIKU run does
 //! ([`crate::accuracy`]); definitions in `docs/disturb.md`.
 //!
-//! Cost: one run is O(steps · Rapier's step); the observables on top are O(boxes)
+//! Cost: one run is O(steps · Rapier's step); the observables on top are O(pile)
 //! twice, and the untimed monitor O(awake bodies) a step.
 
 pub mod judge;
@@ -150,12 +151,58 @@ pub fn configs() -> Vec<Config> {
 /// A disturbance scene's builder.
 pub type Builder = fn(&DisturbParams) -> Disturbance;
 
-/// The scenes by name, in report order.
-pub const SCENES: [(&str, Builder); 3] = [
-    ("thrown_ball", rcg_scenes::disturb::thrown_ball),
-    ("support_removed", rcg_scenes::disturb::support_removed),
-    ("paddle", rcg_scenes::disturb::paddle),
+/// A scene of the runner: its builder, its default sizes and what its pile is made of.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneSpec {
+    /// Its name (`--scenes`, tables, CSV).
+    pub name: &'static str,
+    /// Its builder.
+    pub build: Builder,
+    /// Its pile's bodies, disturbance step and steps after when not given (the seed is
+    /// the run's).
+    pub defaults: DisturbParams,
+    /// Its pile's bodies under `--quick`.
+    pub quick_bodies: usize,
+    /// What the pile is made of, plural (`boxes`, `spheres`): the tables' unit of
+    /// `displaced`.
+    pub bodies: &'static str,
+}
+
+/// The box scenes' defaults: 250 boxes, 3 s of settling, 2 s after.
+const BOX_PILE: DisturbParams = DisturbParams {
+    boxes: 250,
+    seed: 0,
+    at: 300,
+    after: 200,
+};
+
+const fn boxes(name: &'static str, build: Builder) -> SceneSpec {
+    SceneSpec {
+        name,
+        build,
+        defaults: BOX_PILE,
+        quick_bodies: 150,
+        bodies: "boxes",
+    }
+}
+
+/// The scenes, in report order: the three box piles, then the DIKU scene with a
+/// sphere thrown in (its own sizes: the DIKU run's 120 spheres, the throw at 10 s).
+pub const SCENES: [SceneSpec; 4] = [
+    boxes("thrown_ball", rcg_scenes::disturb::thrown_ball),
+    boxes("support_removed", rcg_scenes::disturb::support_removed),
+    boxes("paddle", rcg_scenes::disturb::paddle),
+    SceneSpec {
+        name: "diku_throw",
+        build: rcg_scenes::disturb::diku_throw,
+        defaults: rcg_scenes::disturb::diku_throw::params(),
+        quick_bodies: QUICK_SPHERES,
+        bodies: "spheres",
+    },
 ];
+
+/// The DIKU pile under `--quick`.
+pub const QUICK_SPHERES: usize = 120;
 
 /// Sleep off for every body of the world: Rapier's activation thresholds below zero
 /// (as `rcg_scenes::plain_solver` does). O(bodies).
@@ -172,7 +219,7 @@ fn no_sleep(world: &mut PhysicsWorld) {
 pub struct Run {
     /// The observables ([`OBSERVABLES`]).
     pub outcome: Outcome,
-    /// Boxes held by fixation at the disturbance step (0 without the layer).
+    /// Bodies held by fixation at the disturbance step (0 without the layer).
     pub held_at_disturbance: usize,
 }
 

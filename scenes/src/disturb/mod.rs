@@ -1,4 +1,4 @@
-//! Disturbance scenes: a settled box pile, then something that should move part of it.
+//! Disturbance scenes: a settled pile, then something that should move part of it.
 //!
 //! Built to measure what fixation (held bodies, paper §7, "fixation") does to a pile
 //! that is disturbed after it came to rest: a held body is a Rapier fixed body, so a
@@ -13,6 +13,11 @@
 //! | [`support_removed`](support_removed::support_removed) | a floor segment removed |
 //! | [`paddle`](paddle::paddle) | a kinematic paddle sweeping through |
 //!
+//! A fourth, [`diku_throw`](diku_throw::diku_throw), disturbs the DIKU scene instead
+//! ([`mod@crate::diku`]: spheres settled on an inclined plane, not boxes in a bin): a
+//! heavy sphere thrown into its pile late in the run; its `boxes` are spheres and its
+//! defaults are its own ([`diku_throw::params`]).
+//!
 //! A [`Disturbance`] is a [`Scene`] plus its pile, its disturbance step and what to do
 //! then; the runner calls [`Disturbance::before_step`] before every step (not the
 //! scene's script: the disturbance step is a parameter, which a `fn` script cannot
@@ -24,10 +29,12 @@ use rapier3d::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, RigidBo
 use crate::jitter::Jitter;
 use crate::Scene;
 
+pub mod diku_throw;
 pub mod paddle;
 pub mod support_removed;
 pub mod thrown_ball;
 
+pub use diku_throw::diku_throw;
 pub use paddle::paddle;
 pub use support_removed::support_removed;
 pub use thrown_ball::thrown_ball;
@@ -54,7 +61,8 @@ pub const TILT: Real = 0.2;
 /// Common parameters of the disturbance scenes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DisturbParams {
-    /// Boxes dropped into the bin (default 250).
+    /// Boxes dropped into the bin (default 250); spheres dropped on the plane in
+    /// [`diku_throw`](diku_throw::diku_throw).
     pub boxes: usize,
     /// Seed of the drop jitter (default 0).
     pub seed: u64,
