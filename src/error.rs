@@ -31,22 +31,33 @@ pub enum Error {
     /// step the layer on this one first (a layer stepped on another world reads it in
     /// full and follows it from then on; keep one layer per world).
     ///
-    /// How it is told, in O(1): Rapier's sets keep their elements in place until they
-    /// grow, and moving a `PhysicsWorld` value does not move them, so each analysis
-    /// notes where the first body and the first collider are stored, with the body and
-    /// collider counts. A set is another world's when its count is the one analysed
-    /// and its first element is stored elsewhere. So:
-    /// - the same world, moved (`let w2 = w;`), or edited since the last step
-    ///   (bodies or colliders inserted or removed: a body inserted since answers
-    ///   empty, a removed one `UnknownBody`) is never taken for another;
-    /// - another world (or a copy) with the analysed world's body count (for a body
-    ///   set) or collider count (for a collider set) is found; one with other counts is
-    ///   not told from the analysed world edited since the last step, and is answered
-    ///   as that world (by the layer's nodes of its handles) until the layer steps on
-    ///   it;
-    /// - a world that both gained and lost bodies (colliders) since the last step,
-    ///   back to the analysed count, while its storage grew (moved) or its first
-    ///   element was removed, is taken for another until the next step;
+    /// How it is told, in O(1), by addresses that a move of the world value does not
+    /// change (so `let w2 = w;` still answers):
+    /// - where the set stores its first element, with its count (both noted at each
+    ///   analysis): the analysed world has them unless it was edited since;
+    /// - where the first few bodies of the set that the layer has read keep their
+    ///   collider lists (for a collider set: their first colliders' shapes): Rapier
+    ///   allocates these apart from its storage, so they stay put when the storage
+    ///   grows, and another world, or a copy, has its own.
+    ///
+    /// A set is another world's when both say so: its storage is elsewhere, or its
+    /// count differs, and the first such body (collider) has its list (shape)
+    /// elsewhere. When the set holds none that the layer has read, the storage alone
+    /// decides (the analysed count stored elsewhere: another world). So:
+    /// - the same world moved, or edited since the last step (bodies and colliders
+    ///   inserted or removed, its storage grown), answers: a body inserted since
+    ///   answers empty, a removed one `UnknownBody`;
+    /// - another world, or a copy of its body set, is found when one of its first eight
+    ///   bodies with colliders has the handle of a body the layer read, or else when it
+    ///   holds as many bodies as the analysed world;
+    /// - a collider set alone (`sensor_contents`) is told by its shapes: a copy made
+    ///   with `clone`, or another world whose colliders were built from the same
+    ///   `SharedShape`, is not told from the analysed world's (with its body set, as in
+    ///   the queries taking a world, the bodies tell);
+    /// - the same world may be taken for another until the next step when, since the
+    ///   last step, both its storage moved (grown past its capacity, or its first
+    ///   element removed) and the first body the layer read there gained colliders
+    ///   (or, for a collider set, the first collider had its shape replaced);
     /// - before the first step, and after a restore until the next step, nothing is
     ///   compared (nothing analysed, or addresses of another process).
     ForeignWorld,

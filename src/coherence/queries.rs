@@ -1,9 +1,15 @@
 //! What the analysis of the last step found: refreshed and removed nodes and edges,
 //! sleep and kind changes, its counters; and its settings.
 
-use crate::graph::{Edge, EdgeId, NodeId};
+use rapier3d::prelude::{ColliderSet, RigidBodySet};
+
+use crate::graph::{Edge, EdgeId, NodeId, Storage};
 
 use super::*;
+
+/// Bodies (colliders) from the start of a set that a query looks at to tell the
+/// analysed world from another ([`Coherence::bodies_match`]).
+pub(crate) const WORLD_WITNESSES: usize = 8;
 
 impl Coherence {
     /// Sets the step counter (tests of counters at the end of their range).
@@ -34,48 +40,80 @@ impl Coherence {
             .clamp(VERIFY_IDLE_PER_STEP, VERIFY_PER_STEP)
     }
 
-    /// Whether `bodies` can be the body set of the world the last update analysed, as
-    /// far as an O(1) look tells (see `Error::ForeignWorld` for what it can and cannot
-    /// tell): `false` only when the set holds as many bodies as that world did and its
-    /// first body is stored elsewhere (another world, or a copy). `true` before the
-    /// first update and after a restore (no mark yet), and for a set whose count
-    /// changed since (the same world edited: its storage may have grown and moved).
-    /// Reads the mark [`Coherence::same_world`] takes at every update. O(1) (the first
-    /// occupied slot).
-    pub(crate) fn bodies_match(&self, bodies: &rapier3d::prelude::RigidBodySet) -> bool {
+    /// Whether `bodies` can be the body set of the world the last update analysed (see
+    /// `Error::ForeignWorld` for what this can and cannot tell). Two looks, which must
+    /// both say "another" for `false`:
+    /// - the set's storage: as many bodies as that world had, its first body stored
+    ///   where that world's was (the mark [`Coherence::same_world`] takes at every
+    ///   update; the same world moved keeps it);
+    /// - the first bodies of the set (up to [`WORLD_WITNESSES`]) that the layer has
+    ///   read with colliders: the first whose collider list has the length the layer
+    ///   read must have it where the layer read it (a list is an allocation of its
+    ///   own, which neither a move of the world nor the growth of Rapier's storage
+    ///   moves, and which another world, or a copy, has elsewhere).
+    ///
+    /// When no body can be looked at, the storage decides: a set with the analysed
+    /// count stored elsewhere is another world's, one with another count is the same
+    /// world edited. `true` before the first update and after a restore (nothing to
+    /// compare). O(1): a few slots from the start of the set.
+    pub(crate) fn bodies_match(&self, graph: &ContactGraph, bodies: &RigidBodySet) -> bool {
         let Some((first_body, _)) = *self.world_mark else {
             return true;
         };
-        if self.known_bodies != Some(bodies.len()) {
-            return true;
-        }
         // As `same_world` takes it.
-        let now = bodies
+        let first = bodies
             .iter()
             .next()
             .map_or(0, |(_, b)| b as *const _ as usize);
-        now == first_body
+        let counted = self.known_bodies == Some(bodies.len());
+        if counted && first == first_body {
+            return true;
+        }
+        let witness = bodies
+            .iter()
+            .filter(|(_, rb)| !rb.colliders().is_empty())
+            .take(WORLD_WITNESSES)
+            .find_map(|(h, rb)| {
+                let read = graph.node(graph.node_of_body(h)?)?.storage.list;
+                let now = Storage::list_of(rb);
+                (read.0 != 0 && read.1 == now.1).then_some(read.0 == now.0)
+            });
+        witness.unwrap_or(!counted)
     }
 
-    /// [`Self::bodies_match`] for a collider set. O(1).
-    pub(crate) fn colliders_match(&self, colliders: &rapier3d::prelude::ColliderSet) -> bool {
+    /// [`Self::bodies_match`] for a collider set: the first colliders of the set (up to
+    /// [`WORLD_WITNESSES`]) that the layer has read (a body's first collider, static
+    /// geometry, a sensor) must have their shape where the layer read it (a shape is an
+    /// allocation of its own; a copy of the set made with `clone` shares it, and so do
+    /// colliders built from one shared shape). O(1).
+    pub(crate) fn colliders_match(&self, graph: &ContactGraph, colliders: &ColliderSet) -> bool {
         let Some((_, first_collider)) = *self.world_mark else {
             return true;
         };
-        if self.known_colliders != colliders.len() {
-            return true;
-        }
-        let now = colliders
+        let first = colliders
             .iter()
             .next()
             .map_or(0, |(_, c)| c as *const _ as usize);
-        now == first_collider
+        let counted = self.known_colliders == colliders.len();
+        if counted && first == first_collider {
+            return true;
+        }
+        let witness = colliders.iter().take(WORLD_WITNESSES).find_map(|(h, c)| {
+            let owner = match c.parent() {
+                Some(body) => graph.node_of_body(body),
+                None if c.is_sensor() => graph.node_of_sensor(h),
+                None => graph.node_of_static_collider(h),
+            }?;
+            let (named, shape) = graph.node(owner)?.storage.shape;
+            (named == Some(h) && shape != 0).then(|| shape == Storage::shape_of(c))
+        });
+        witness.unwrap_or(!counted)
     }
 
     /// Whether the world's body and collider sets both can be the analysed world's
     /// ([`Self::bodies_match`], [`Self::colliders_match`]). O(1).
-    pub(crate) fn world_matches(&self, view: &WorldView) -> bool {
-        self.bodies_match(view.bodies) && self.colliders_match(view.colliders)
+    pub(crate) fn world_matches(&self, graph: &ContactGraph, view: &WorldView) -> bool {
+        self.bodies_match(graph, view.bodies) && self.colliders_match(graph, view.colliders)
     }
 
     /// The index of the last analysed step (0 before the first).

@@ -13,7 +13,7 @@
 use rapier3d::dynamics::{RigidBody, RigidBodyType};
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
-use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource};
+use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource, Storage};
 use crate::WorldView;
 
 /// The node kind of a Rapier body (paper §2, Tables 1–2).
@@ -51,12 +51,12 @@ pub(crate) fn ensure_body_node(
 ) -> Option<NodeId> {
     let rb = view.bodies.get(handle)?;
     let kind = kind_of_body(view, handle, rb);
-    match graph.node_of_body(handle) {
+    let id = match graph.node_of_body(handle) {
         Some(id) => {
             if graph.node(id).map(|n| n.kind) != Some(kind) {
                 graph.set_kind(id, kind);
             }
-            Some(id)
+            id
         }
         None => {
             let id = graph.add_node(kind, NodeSource::Body(handle));
@@ -65,8 +65,38 @@ pub(crate) fn ensure_body_node(
                 n.collider_sig = colliders_sig(rb.colliders());
             }
             created.push(id);
-            Some(id)
+            id
         }
+    };
+    // Read again only when the collider list moved or changed length (its first
+    // collider's shape is then looked up): one compare on the way of every refresh.
+    if let Some(n) = graph.node_mut(id) {
+        if n.storage.list != Storage::list_of(rb) {
+            n.storage = body_storage(view, rb);
+        }
+    }
+    Some(id)
+}
+
+/// Where Rapier keeps a body's collider list and its first collider's shape
+/// ([`Storage`]). O(1).
+fn body_storage(view: &WorldView, rb: &RigidBody) -> Storage {
+    let first = rb.colliders().first().copied();
+    let shape = first
+        .and_then(|c| view.colliders.get(c))
+        .map_or(0, Storage::shape_of);
+    Storage {
+        list: Storage::list_of(rb),
+        shape: (first, shape),
+    }
+}
+
+/// The [`Storage`] of a collider standing for its own node (static geometry, a
+/// sensor). O(1).
+fn collider_storage(collider: ColliderHandle, c: &rapier3d::geometry::Collider) -> Storage {
+    Storage {
+        list: (0, 0),
+        shape: (Some(collider), Storage::shape_of(c)),
     }
 }
 
@@ -141,14 +171,20 @@ pub(crate) fn ensure_collider_owner(
     let c = view.colliders.get(collider)?;
     match c.parent() {
         Some(parent) => ensure_body_node(graph, view, parent, created),
-        None if !c.is_sensor() => Some(match graph.node_of_static_collider(collider) {
-            Some(id) => id,
-            None => {
-                let id = graph.add_node(NodeKind::Fixed, NodeSource::StaticCollider(collider));
-                created.push(id);
-                id
+        None if !c.is_sensor() => {
+            let id = match graph.node_of_static_collider(collider) {
+                Some(id) => id,
+                None => {
+                    let id = graph.add_node(NodeKind::Fixed, NodeSource::StaticCollider(collider));
+                    created.push(id);
+                    id
+                }
+            };
+            if let Some(n) = graph.node_mut(id) {
+                n.storage = collider_storage(collider, c);
             }
-        }),
+            Some(id)
+        }
         None => None,
     }
 }
@@ -164,7 +200,7 @@ pub(crate) fn ensure_trigger_node(
     if !c.is_sensor() {
         return None;
     }
-    Some(match graph.node_of_sensor(collider) {
+    let id = match graph.node_of_sensor(collider) {
         Some(id) => {
             // The sensor may have been moved to another body in place.
             if let Some(n) = graph.node_mut(id).filter(|n| n.carrier != c.parent()) {
@@ -180,7 +216,11 @@ pub(crate) fn ensure_trigger_node(
             created.push(id);
             id
         }
-    })
+    };
+    if let Some(n) = graph.node_mut(id) {
+        n.storage = collider_storage(collider, c);
+    }
+    Some(id)
 }
 
 /// Whether the Rapier object behind a node still exists (containers and logical

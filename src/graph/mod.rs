@@ -37,6 +37,7 @@ pub use edge::{ContactCache, Edge, EdgeKind, Transition};
 pub(crate) use edge::{LeftEdge, NO_SLOT};
 pub use node::{Category, ContainerSource, Node, NodeKind, NodeSource};
 
+pub(crate) use node::Storage;
 use crate::{Error, Result};
 
 /// The contact graph of a scene.

@@ -191,6 +191,49 @@ pub struct Node {
     /// ([`crate::ContactGraph::recount_geometric`]).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) geometric_edges: u32,
+    /// Where Rapier kept what the node stands for when the layer last read it (see
+    /// [`Storage`]). Addresses: not part of a snapshot.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) storage: Storage,
+}
+
+/// Where Rapier keeps the objects a node stands for, as the layer last read them:
+/// addresses that neither moving the world value nor the growth of Rapier's sets
+/// changes (the body's collider list and a collider's shape are allocations of their
+/// own), so that a set of another world, whose objects have the same handles, is told
+/// from the analysed one (`Error::ForeignWorld`). Derived from the world like a lookup
+/// cache: left out of snapshots and of `Debug`, zero when unknown.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Storage {
+    /// A body's collider list: its address and length (0 without colliders).
+    pub(crate) list: (usize, usize),
+    /// One collider the node stands for (a body's first, a static collider, a
+    /// sensor) and the address of its shape (0 when none).
+    pub(crate) shape: (Option<rapier3d::prelude::ColliderHandle>, usize),
+}
+
+impl std::fmt::Debug for Storage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Storage")
+    }
+}
+
+impl Storage {
+    /// The shape address of a collider. O(1).
+    pub(crate) fn shape_of(c: &rapier3d::geometry::Collider) -> usize {
+        std::sync::Arc::as_ptr(&c.shared_shape().0) as *const () as usize
+    }
+
+    /// The address and length of a body's collider list (0 for an empty one, whose
+    /// address means nothing). O(1).
+    pub(crate) fn list_of(rb: &rapier3d::dynamics::RigidBody) -> (usize, usize) {
+        let list = rb.colliders();
+        if list.is_empty() {
+            (0, 0)
+        } else {
+            (list.as_ptr() as usize, list.len())
+        }
+    }
 }
 
 impl Node {
@@ -214,6 +257,7 @@ impl Node {
             pre_flag_touch: false,
             group_slot: 0,
             geometric_edges: 0,
+            storage: Storage::default(),
         }
     }
 

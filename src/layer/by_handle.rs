@@ -36,7 +36,7 @@ impl ContactLayer {
         bodies: &RigidBodySet,
         body: RigidBodyHandle,
     ) -> Result<Option<NodeId>> {
-        if !self.coherence.bodies_match(bodies) {
+        if !self.coherence.bodies_match(&self.graph, bodies) {
             return Err(Error::ForeignWorld);
         }
         if !bodies.contains(body) {
@@ -48,7 +48,7 @@ impl ContactLayer {
     /// `Err(ForeignWorld)` unless both of the world's sets can be those the layer last
     /// analysed (see [`Error::ForeignWorld`]). O(1).
     pub(crate) fn check_world(&self, view: &WorldView) -> Result<()> {
-        if self.coherence.world_matches(view) {
+        if self.coherence.world_matches(&self.graph, view) {
             Ok(())
         } else {
             Err(Error::ForeignWorld)
@@ -194,7 +194,7 @@ impl ContactLayer {
         colliders: &ColliderSet,
         sensor: ColliderHandle,
     ) -> Result<Vec<Touching>> {
-        if !self.coherence.colliders_match(colliders) {
+        if !self.coherence.colliders_match(&self.graph, colliders) {
             return Err(Error::ForeignWorld);
         }
         match colliders.get(sensor) {

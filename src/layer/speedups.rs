@@ -76,7 +76,7 @@ impl ContactLayer {
     /// [`crate::monitor::Monitor`] run outside the layer takes, and what the layer's
     /// own monitor uses. O(log fixated bodies).
     pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
-        if !self.coherence.bodies_match(bodies) {
+        if !self.coherence.bodies_match(&self.graph, bodies) {
             return false;
         }
         self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
