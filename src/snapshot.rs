@@ -173,8 +173,11 @@ use crate::{ContactLayer, Error, NodeId, Result, StepStats, WorldView};
 /// format 3 adds whether the layer's event handler reached the last step (touching
 /// tracking as the default); format 4 adds the speed-ups' partial support judgement
 /// (the bodies resting on computed contacts, each held body's watched supporters with
-/// the watch's counts, the records of bodies released since the last judgement).
-pub const SNAPSHOT_FORMAT: u32 = 5;
+/// the watch's counts, the records of bodies released since the last judgement);
+/// format 6 adds the collider pair each physical and trigger edge names
+/// (`Edge::colliders`, the pair its events name) and whether the speed-ups hold a
+/// node's body (`Node::is_held`).
+pub const SNAPSHOT_FORMAT: u32 = 6;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");

@@ -29,7 +29,15 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         let Some(id) = graph.node_of_body(h) else {
             return fail(format!("body {h:?} has no node"));
         };
-        let kind = graph.try_node(id)?.kind();
+        let node = graph.try_node(id)?;
+        let kind = node.kind();
+        if node.is_held() != layer.fixates(h) {
+            return fail(format!(
+                "node {id:?} of body {h:?} is held = {}, the speed-ups say {}",
+                node.is_held(),
+                !node.is_held()
+            ));
+        }
         let want = kind_of_body(view, h, rb);
         if kind != want {
             return fail(format!(
@@ -163,6 +171,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
         if e.kind() == EdgeKind::Physical
             && e.is_proximate()
             && !rapier_pairs.contains_key(&PairKey::of(e.a(), e.b()))
+            && !graph.is_frozen(e)
         {
             return fail(format!("edge {eid:?} is proximate without a Rapier pair"));
         }

@@ -102,6 +102,7 @@
 
 use crate::graph::mirror as nodes;
 pub(crate) mod details;
+pub(crate) mod held;
 pub(crate) mod obsolete;
 mod pair_update;
 pub(crate) mod pairs;

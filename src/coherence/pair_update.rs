@@ -150,6 +150,11 @@ impl Coherence {
         let step = self.step;
         let details = !self.skip_details;
         let Some(e) = graph.edge(eid) else { return };
+        // Rapier keeps a held body's pairs with what stands still, without contacts:
+        // the edge keeps the contact it froze with (`graph/frozen.rs`).
+        if e.walk_stamp != step && graph.is_frozen(e) {
+            return;
+        }
         if e.walk_stamp != step {
             let (pa, pb) = if details {
                 (pose_of(graph, view, e.a), pose_of(graph, view, e.b))
@@ -180,6 +185,11 @@ impl Coherence {
         let was_proximate = e.cache.proximity;
         e.cache.begin_update(!self.skip_details);
         e.updated_step = step;
+        // A held body's contact with what stands still has no Rapier pair: it stays
+        // as it was (`graph/frozen.rs`).
+        if graph.edge(eid).is_some_and(|e| graph.is_frozen(e)) {
+            return;
+        }
         let (a, b, kind) = (e.a, e.b, e.kind);
         let passive = |n| graph.node(n).is_some_and(|n| n.passive);
         // Geometric edges live only while the body is inside the trigger, and a passive

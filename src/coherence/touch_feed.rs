@@ -290,8 +290,16 @@ impl Coherence {
                     None => continue,
                 }
             } else {
+                // A held body's contact with what stands still left Rapier's narrow
+                // phase when it was held, not the graph (`graph/frozen.rs`).
                 match graph.edge_by_key(crate::graph::PairKey::of(n1, n2)) {
-                    Some(e) if graph.edge(e).is_some_and(|e| e.kind == EdgeKind::Physical) => e,
+                    Some(e)
+                        if graph
+                            .edge(e)
+                            .is_some_and(|e| e.kind == EdgeKind::Physical && !graph.is_frozen(e)) =>
+                    {
+                        e
+                    }
                     _ => continue,
                 }
             };
@@ -445,6 +453,9 @@ impl Coherence {
             } else {
                 self.begin_touch_update(graph, eid, &mut changed);
             }
+        // Frozen edges (a held body's contacts with what stands still) have no Rapier
+        // pair to count: they stay.
+        targets.retain(|e| graph.edge(*e).is_none_or(|e| !graph.is_frozen(e)));
             if let Some(e) = graph.edge_mut(eid) {
                 e.cache.collider_pairs = want;
             }

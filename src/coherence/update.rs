@@ -89,6 +89,11 @@ impl Coherence {
             self.remove_node(graph, groups, n);
         }
         for n in std::mem::take(&mut graph.kind_changed) {
+            // A held body the user gave another type: Rapier computes its kept
+            // contacts again (and reports them started): they are counted again.
+            if graph.node(n).is_some_and(|n| n.is_held() && !n.kind().is_insulator()) {
+                self.stale.push(n);
+            }
             self.kind_changes += 1;
             groups.disturb(graph, n);
         }
@@ -628,33 +633,6 @@ impl Coherence {
                     .extend(sensors_of(view, rb).map(|c| (id, c)));
             }
             self.walk.push(id);
-        }
-    }
-
-    /// Reports the speed-ups' fixations (`false`) and releases (`true`) applied before
-    /// this step as sleep and wake of the body: a held body is out of the simulation
-    /// like a sleeping one. A release is reported by the refresh that sees the body
-    /// dynamic again (its last reported state is "asleep"), so only fixations are
-    /// pushed here. O(changes).
-    pub(crate) fn note_hold_changes(
-        &mut self,
-        graph: &mut ContactGraph,
-        changes: &[(RigidBodyHandle, bool)],
-    ) {
-        for &(h, released) in changes {
-            let Some(id) = graph.node_of_body(h) else {
-                continue;
-            };
-            let Some(n) = graph.node_mut(id) else {
-                continue;
-            };
-            if released || n.passive {
-                continue;
-            }
-            if n.reported_awake == Some(true) {
-                n.reported_awake = Some(false);
-                self.sleep_changes.push((id, false));
-            }
         }
     }
 

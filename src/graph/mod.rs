@@ -22,6 +22,7 @@
 //! a Rapier world; users read it.
 
 mod edge;
+mod frozen;
 pub(crate) mod mirror;
 mod node;
 pub(crate) mod validate;
@@ -440,7 +441,7 @@ impl ContactGraph {
                 else {
                     continue;
                 };
-                if !ok {
+                if !ok && !self.edge(eid).is_some_and(|e| self.is_frozen(e)) {
                     if let Some(e) = self.remove_edge(eid) {
                         self.dropped.push(e);
                     }

@@ -181,6 +181,11 @@ pub struct Node {
     /// refresh).
     #[cfg_attr(feature = "serde", serde(default))]
     pub(crate) pre_flag_touch: bool,
+    /// For a body: held by the speed-ups' fixation (a fixed body in Rapier that the
+    /// user made dynamic): its contacts with what stands still are frozen (see
+    /// `graph/frozen.rs`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) held: bool,
     /// The node's position in its group's member list (a hint checked on use;
     /// rebuilt on restore, see [`crate::Groups`]).
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -255,10 +260,18 @@ impl Node {
             collider_sig: 0,
             disabled_sig: 0,
             pre_flag_touch: false,
+            held: false,
             group_slot: 0,
             geometric_edges: 0,
             storage: Storage::default(),
         }
+    }
+
+    /// Held by the speed-ups' fixation (see `SpeedUps::fixate`): a fixed body in
+    /// Rapier that stands for a sleeping one; its contacts with what stands still are
+    /// kept frozen ([`crate::ContactGraph::is_frozen`]). O(1).
+    pub fn is_held(&self) -> bool {
+        self.held
     }
 
     /// The node's kind.

@@ -136,7 +136,15 @@ impl ContactLayer {
     /// follows the edge's, from the smaller slot to the larger). O(the contact pairs
     /// of the colliders of the node with fewer colliders).
     fn details_from(&self, view: &WorldView, n: NodeId, m: NodeId) -> Option<ContactCache> {
-        read_details(&self.graph, view, n, m).map(|mut c| {
+        // A held body's contact with what stands still: Rapier keeps the pair without
+        // contacts; the edge keeps the contact it froze with (`graph/frozen.rs`).
+        let frozen = self
+            .graph
+            .edge_by_key(crate::graph::PairKey::of(n, m))
+            .and_then(|e| self.graph.edge(e))
+            .filter(|e| self.graph.is_frozen(e))
+            .map(|e| e.cache().clone());
+        frozen.or_else(|| read_details(&self.graph, view, n, m)).map(|mut c| {
             if n.index() > m.index() {
                 c.normal = -c.normal;
                 c.push = -c.push;

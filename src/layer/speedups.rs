@@ -153,6 +153,12 @@ impl ContactLayer {
         }
     }
 
+    /// Whether the speed-ups hold `h` by fixation now, switched off or not (they give
+    /// their bodies back at the next pre-step). O(log held).
+    pub(crate) fn fixates(&self, h: RigidBodyHandle) -> bool {
+        self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
+    }
+
     /// The speed-ups' state, if they are on.
     pub fn speedups(&self) -> Option<&SpeedUpState> {
         self.speedups.as_ref().filter(|s| !s.is_detached())

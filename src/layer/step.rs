@@ -180,6 +180,9 @@ impl ContactLayer {
         // feed reached it: the switch reads the touching pairs once.)
         let touch = (lent && self.touching_wanted()).then_some(touch_events.as_slice());
         self.coherence.set_feed_connected(lent);
+        if let Some(s) = &self.speedups {
+            self.coherence.mark_held(&mut self.graph, &s.hold_changes);
+        }
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen, touch);
         self.touch_events = touch_events;
@@ -267,6 +270,15 @@ impl ContactLayer {
                 step,
             };
             s.decide(&self.graph, &view, &self.groups, &changes);
+            // The contacts the decided fixations will freeze, read while Rapier
+            // still has them.
+            let fixing: Vec<_> = s
+                .pending_fixations()
+                .filter_map(|h| self.graph.node_of_body(h))
+                .collect();
+            if !fixing.is_empty() {
+                crate::coherence::held::keep_frozen_details(&mut self.graph, &view, &fixing);
+            }
             if s.is_detached() && s.is_idle() {
                 self.speedups = None;
             }

@@ -130,10 +130,10 @@ impl SpeedUps {
     /// settled pile, its floor taken away, a paddle through it) it answers as Rapier
     /// without sleep does on the bodies moved and the ball's outcome, except that the
     /// paddle moves a few boxes fewer. The gain is on piles at rest; a pile that keeps
-    /// being hit (the DIKU scene's rim) runs at about stock Rapier's cost. What a held
-    /// body does not do yet: keep its contacts (holding sends `ContactStopped`), and
-    /// obey an impulse or velocity the user writes to it (Rapier drops writes to a
-    /// fixed body). Figures: `docs/results.md`.
+    /// being hit (the DIKU scene's rim) runs at about stock Rapier's cost. A held body
+    /// keeps its contacts as a sleeping one does (no contact ends because a pile was
+    /// held). What it does not do yet: obey an impulse or velocity the user writes to
+    /// it (Rapier drops writes to a fixed body). Figures: `docs/results.md`.
     ///
     /// The other presets: observe only is no speed-ups at all
     /// (`set_speedups(None)`, the layer's default); [`Self::papers_fastest`].

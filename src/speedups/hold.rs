@@ -162,6 +162,12 @@ impl SpeedUpState {
         }
     }
 
+    /// The fixations decided at the last analysis, applied at the next pre-step.
+    /// O(1) to make.
+    pub(crate) fn pending_fixations(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.to_fix.iter().map(|t| t.handle)
+    }
+
     /// The bodies the next pre-step releases from fixation. O(1).
     pub(crate) fn pending_releases(&self) -> &[RigidBodyHandle] {
         &self.to_release
