@@ -6,7 +6,8 @@
 //! determination. Rapier's step does all three internally, and already has the
 //! paper's "relative transform unchanged → skip the narrow phase" test (contact
 //! recycling). So this pass runs *after* Rapier's step, reading the narrow phase:
-//! 1. node upkeep (`update.rs`, creating nodes through `graph::mirror`): bodies awake now or at the last update are refreshed;
+//! 1. node upkeep (`update.rs` runs the phases in order; `refresh.rs`, creating nodes
+//!    through `graph::mirror`): bodies awake now or at the last update are refreshed;
 //!    a full scan only when the body or collider count changed (it refreshes the
 //!    bodies whose own collider count changed) or on request (it refreshes every
 //!    node);
@@ -104,14 +105,17 @@ use crate::graph::mirror as nodes;
 pub(crate) mod details;
 pub(crate) mod held;
 pub(crate) mod obsolete;
+mod owners;
 mod pair_update;
 pub(crate) mod pairs;
 mod queries;
+mod refresh;
 mod touch_feed;
 mod triggers;
 mod unseen;
 mod update;
 mod user_events;
+mod verify;
 
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;

@@ -1,5 +1,8 @@
-//! The analysis of one step (paper §3, Fig. 11): node upkeep, the round-robin
-//! verification, removal of nodes, and the order in which the phases run.
+//! The analysis of one step (paper §3, Fig. 11): [`Coherence::update`] runs its
+//! phases in order, each a function here (node upkeep, the walk, edge insertion and
+//! marks, triggers, vanished edges, group changes), with node removal and the idle
+//! test. The round-robin verification is `verify.rs`, refreshing a node
+//! `refresh.rs`, the collider-owner cache and the world's identity `owners.rs`.
 
 use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
@@ -7,79 +10,10 @@ use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::groups::Groups;
 use crate::WorldView;
 
+use super::refresh::sensors_of;
 use super::*;
 
 impl Coherence {
-    /// Checks a few nodes and Rapier body and collider slots per step, round robin: a
-    /// node whose object is gone is removed, a body whose type changed in place gets
-    /// its kind, and a body without node gets one. It makes the graph consistent,
-    /// within `slots / verify_budget()` steps, after changes the per-step upkeep cannot
-    /// see (removing and inserting bodies between two steps, retyping a sleeping body),
-    /// without a full scan. O([`Self::verify_budget`]): the budget follows the awake
-    /// bodies, so that a sleeping or held scene pays almost nothing for it.
-    pub(super) fn verify_some(
-        &mut self,
-        graph: &mut ContactGraph,
-        groups: &mut Groups,
-        view: &WorldView,
-    ) {
-        let budget = self.verify_budget();
-        let slots = graph.nodes.slot_count() as u32;
-        for i in round_robin(&mut self.verify_cursor, slots, budget) {
-            let Some(id) = graph.node_id_at(i) else {
-                continue;
-            };
-            let Some(source) = graph.node(id).map(|n| n.source) else {
-                continue;
-            };
-            if !nodes::source_exists(view, source) {
-                self.remove_node(graph, groups, id);
-            } else if let NodeSource::Body(h) = source {
-                nodes::ensure_body_node(graph, view, h, &mut self.created);
-            }
-        }
-        // Rapier's arenas may hold free slots beyond `len()`: cover the highest slot the
-        // graph has seen too.
-        let body_slots = view.bodies.len().max(graph.body_slot_span()) as u32 + budget as u32;
-        for i in round_robin(&mut self.verify_body_cursor, body_slots, budget) {
-            if let Some((_, h)) = view.bodies.get_unknown_gen(i) {
-                if graph.node_of_body(h).is_none() {
-                    nodes::ensure_body_node(graph, view, h, &mut self.created);
-                }
-            }
-        }
-        let collider_slots =
-            view.colliders.len().max(graph.collider_slot_span()) as u32 + budget as u32;
-        for i in round_robin(&mut self.verify_collider_cursor, collider_slots, budget) {
-            if let Some((c, h)) = view.colliders.get_unknown_gen(i) {
-                // A cached owner that no longer owns the collider (moved in place
-                // while nothing that would notice was refreshed): read both again.
-                let (_, gen) = h.into_raw_parts();
-                if let Some(Owner::Node(g, n)) = self.owners.get(i as usize).copied() {
-                    let owned = graph
-                        .node(n)
-                        .is_some_and(|node| nodes::owns(view, h, node.source));
-                    if g == gen && !owned {
-                        self.owners[i as usize] = Owner::Unknown;
-                        if graph.contains_node(n) {
-                            self.owner_moved(n);
-                        }
-                        if let Some(now) =
-                            nodes::ensure_collider_owner(graph, view, h, &mut self.created)
-                        {
-                            self.owner_moved(now);
-                        }
-                    }
-                }
-                if c.is_sensor() {
-                    nodes::ensure_trigger_node(graph, view, h, &mut self.created);
-                } else if c.parent().is_none() {
-                    nodes::ensure_collider_owner(graph, view, h, &mut self.created);
-                }
-            }
-        }
-    }
-
     /// Reports the edges a kind change dropped (ended, with `Vanished` marks) and
     /// regroups their ends.
     pub(crate) fn take_dropped(&mut self, graph: &mut ContactGraph, groups: &mut Groups) {
@@ -91,7 +25,10 @@ impl Coherence {
         for n in std::mem::take(&mut graph.kind_changed) {
             // A held body the user gave another type: Rapier computes its kept
             // contacts again (and reports them started): they are counted again.
-            if graph.node(n).is_some_and(|n| n.is_held() && !n.kind().is_insulator()) {
+            if graph
+                .node(n)
+                .is_some_and(|n| n.is_held() && !n.kind().is_insulator())
+            {
                 self.stale.push(n);
             }
             self.kind_changes += 1;
@@ -149,6 +86,50 @@ impl Coherence {
         screen: &Screen,
         touch: Option<&[TouchEvent]>,
     ) {
+        // 0. A new step: the step's lists emptied, the tracking in effect noted.
+        let (tracking, switched) = self.begin_update(graph, view, touch);
+        // 1. Node upkeep: a full scan when the counts changed or on request, and the
+        // round-robin verification.
+        let (requested, resized) = self.upkeep_nodes(graph, groups, view, tracking);
+        if self.idle_step(graph, view, screen, touch, switched || requested, &resized) {
+            // Nothing awake now or at the last update, no transition, nothing asked
+            // for, created or removed, no trigger: the full update would read nothing
+            // and change nothing (its walk, `awake_prev` and counts are empty, as
+            // they are already). Only the kind changes' drops are taken.
+            self.take_dropped(graph, groups);
+            return;
+        }
+        // 2. The walk: the bodies awake now or at the last update, those asked for,
+        // stale and new (every node on request).
+        self.refresh_nodes(graph, groups, view, screen, touch, requested, &resized);
+        let walk = std::mem::take(&mut self.walk);
+        // 3. Edge insertion and marks (§3.1–3.2, Figs. 3 and 5).
+        let full = requested || switched;
+        let scan = self.insert_edges(graph, view, screen, touch, &walk, full, &resized);
+        // 4. Trigger volumes.
+        self.read_triggers(graph, view, screen, &walk);
+        // 5. Vanished edges and obsolete removal (§3.1).
+        self.retire_vanished(graph, view, touch.is_none(), scan, &walk);
+        // 6. What the groups must redo.
+        self.mark_group_changes(graph, groups, &walk);
+        self.take_dropped(graph, groups);
+        self.walk = walk;
+        // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
+        // removed in the same step, so the list needs no sorting or filtering: its
+        // order is Rapier's pair order, then the vanished edges, which is deterministic.
+        debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
+    }
+
+    /// Phase 0: a new step's index, the step's lists emptied, the tracking in effect
+    /// and whether it switched (the first update under touching tracking counts as a
+    /// switch: its touching pairs sent no `Started`; back to proximity, every pair is
+    /// read again). O(1).
+    fn begin_update(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        touch: Option<&[TouchEvent]>,
+    ) -> (Tracking, bool) {
         // Saturating: a step count near u64::MAX comes only from restored bytes.
         self.step = self.step.saturating_add(1);
         let tracking = if touch.is_some() {
@@ -156,8 +137,6 @@ impl Coherence {
         } else {
             Tracking::Proximity
         };
-        // The first update under touching tracking counts as a switch (its touching
-        // pairs sent no `Started`); back to proximity, every pair is read again.
         let switched = self.tracking != Some(tracking);
         if self.tracking == Some(Tracking::Touching) && tracking == Tracking::Proximity {
             self.force_full_sync = true;
@@ -178,8 +157,20 @@ impl Coherence {
             ..WalkCounters::default()
         };
         self.witness.record(view.bodies, view.islands);
+        (tracking, switched)
+    }
 
-        // 1. Node upkeep.
+    /// Phase 1: node upkeep. A full scan of bodies and colliders when their counts
+    /// changed, on request, or for another world; then the round-robin verification.
+    /// Returns whether a full read was requested and the bodies whose collider count
+    /// changed. O(verify budget), O(bodies + colliders) on a full scan.
+    fn upkeep_nodes(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        tracking: Tracking,
+    ) -> (bool, Vec<NodeId>) {
         self.pending_triggers.clear();
         let counts_changed = self.known_bodies != Some(view.bodies.len())
             || self.known_colliders != view.colliders.len();
@@ -208,14 +199,24 @@ impl Coherence {
         self.walk.clear();
         self.walk_sensors.clear();
         self.integrated = 0;
-        if self.idle_step(graph, view, screen, touch, switched || requested, &resized) {
-            // Nothing awake now or at the last update, no transition, nothing asked
-            // for, created or removed, no trigger: the full update would read nothing
-            // and change nothing (its walk, `awake_prev` and counts are empty, as
-            // they are already). Only the kind changes' drops are taken.
-            self.take_dropped(graph, groups);
-            return;
-        }
+        (requested, resized)
+    }
+
+    /// Phase 2: refreshes the bodies Rapier integrated, those awake at the last
+    /// update, those the logic layer asks for, stale owners (proximity tracking), the
+    /// nodes created this step and, on request, every node. O(refreshed nodes), O(nodes)
+    /// on request.
+    #[allow(clippy::too_many_arguments)]
+    fn refresh_nodes(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        screen: &Screen,
+        touch: Option<&[TouchEvent]>,
+        requested: bool,
+        resized: &[NodeId],
+    ) {
         for h in view.islands.active_bodies() {
             let fixed = view.bodies.get(h).is_some_and(|b| b.is_fixed());
             if !fixed {
@@ -283,12 +284,27 @@ impl Coherence {
             let id = self.created[i];
             groups.disturb(graph, id);
         }
+    }
 
-        // 2. Edge insertion and marks. When at least half of the moving bodies were
-        // refreshed, one sequential pass over Rapier's pair array beats walking each
-        // body's adjacency (which reaches every pair twice); otherwise the walk keeps
-        // the cost proportional to the refreshed bodies.
-        let walk = std::mem::take(&mut self.walk);
+    /// Phase 3: edge insertion and marks. Under touching tracking from Rapier's
+    /// events (the touching pairs read in full on a switch or request, and for the
+    /// nodes that need it); under proximity tracking, when at least half of the moving
+    /// bodies were refreshed, one sequential pass over Rapier's pair array (it beats
+    /// walking each body's adjacency, which reaches every pair twice), otherwise the
+    /// walk, so that the cost stays proportional to the refreshed bodies. Returns
+    /// whether the pass over all pairs ran. O(events) or O(refreshed bodies' pairs),
+    /// O(pairs) for the pass.
+    #[allow(clippy::too_many_arguments)]
+    fn insert_edges(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        touch: Option<&[TouchEvent]>,
+        walk: &[NodeId],
+        full: bool,
+        resized: &[NodeId],
+    ) -> bool {
         let moving = graph.count_of_kind(NodeKind::Dynamic)
             + graph.count_of_kind(NodeKind::Link)
             + graph.count_of_kind(NodeKind::Kinematic);
@@ -310,9 +326,9 @@ impl Coherence {
             // in Rapier (its owner unknown once the counts changed): their touching
             // pairs are counted again.
             self.stale.extend_from_slice(&self.passive_changed);
-            self.stale.extend_from_slice(&resized);
+            self.stale.extend_from_slice(resized);
             let late = std::mem::take(&mut self.touch_rescan);
-            if requested || switched {
+            if full {
                 self.stale.clear();
                 self.rescan_touching(graph, view, screen, events, &[], true);
             } else if !late.is_empty() || !self.stale.is_empty() {
@@ -323,10 +339,23 @@ impl Coherence {
             self.scan_all_pairs(graph, view, screen);
             self.counters.bodies = walk.len();
         } else {
-            for &me in &walk {
+            for &me in walk {
                 self.walk_pairs(graph, view, screen, me);
             }
         }
+        scan
+    }
+
+    /// Phase 4: trigger volumes. O(the refreshed and new bodies' colliders + the
+    /// triggers read).
+    fn read_triggers(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        walk: &[NodeId],
+    ) {
+        let step = self.step;
         // Trigger volumes: the triggers carried by refreshed bodies, the new ones and
         // those asked for are read from their side; then the triggers whose sensor
         // collider changed (moved with a fixed or passive carrier, or parentless);
@@ -382,9 +411,19 @@ impl Coherence {
                 self.walk_body_sensors(graph, view, screen, me);
             }
         }
+    }
 
-        // 3. Vanished edges and obsolete removal, for the refreshed bodies and the
-        // triggers they carry.
+    /// Phase 5: vanished edges and obsolete removal, for the refreshed bodies and the
+    /// triggers they carry. O(their edges), O(edges) after the pass over all pairs.
+    fn retire_vanished(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        physical: bool,
+        scan: bool,
+        walk: &[NodeId],
+    ) {
+        let step = self.step;
         let triggers = std::mem::take(&mut self.triggers);
         if scan {
             // One sequential pass over the edge arena instead of each refreshed node's
@@ -412,9 +451,8 @@ impl Coherence {
         // Under touching tracking physical edges follow Rapier's events alone, so a
         // refreshed body's edges need a look only if one of them is geometric (it is
         // inside a trigger): an O(1) count per awake body, none without a trigger.
-        let physical = touch.is_none();
         if !scan {
-            for &me in &walk {
+            for &me in walk {
                 if physical || graph.node(me).is_some_and(|n| n.geometric_edges > 0) {
                     self.retire_unreached(graph, view, me, physical);
                 }
@@ -424,7 +462,15 @@ impl Coherence {
             self.retire_unreached(graph, view, me, physical);
         }
         self.triggers = triggers;
+    }
 
+    /// Phase 6: tells the groups what changed. O(touched edges + walk).
+    fn mark_group_changes(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        walk: &[NodeId],
+    ) {
         // Groups change only where structure changed: a contact started or ended (a
         // merge or a split; an edge removed from the graph leaves its group by the
         // graph's own record), a body woke or slept (its group's sleep), became passive
@@ -442,7 +488,7 @@ impl Coherence {
         for &n in &self.awake_flips {
             groups.awake_changed(n);
         }
-        for &me in &walk {
+        for &me in walk {
             let ungrouped = graph
                 .node(me)
                 .is_some_and(|n| n.kind.is_simulated() && n.group.is_none() && !n.passive);
@@ -450,12 +496,6 @@ impl Coherence {
                 groups.disturb(graph, me);
             }
         }
-        self.take_dropped(graph, groups);
-        self.walk = walk;
-        // Each edge is pushed once (guarded by its walk stamp) and no touched edge is
-        // removed in the same step, so the list needs no sorting or filtering: its
-        // order is Rapier's pair order, then the vanished edges, which is deterministic.
-        debug_assert!(self.touched.iter().all(|&e| graph.edge(e).is_some()));
     }
 
     /// Whether this step is idle for the analysis (see [`Self::update`]): Rapier's
@@ -518,124 +558,6 @@ impl Coherence {
         }
     }
 
-    /// Refreshes one node whatever its state, if not done this step: a body's pairs are
-    /// read (it joins the walk), static geometry's too, a trigger is read from its side.
-    /// A node whose object is gone is removed. Containers and logical nodes: nothing.
-    pub(super) fn refresh_node(
-        &mut self,
-        graph: &mut ContactGraph,
-        groups: &mut Groups,
-        view: &WorldView,
-        id: NodeId,
-    ) {
-        let step = self.step;
-        let Some(node) = graph.node(id) else { return };
-        if node.seen_step == step {
-            return;
-        }
-        match node.source {
-            NodeSource::Body(h) if view.bodies.contains(h) => {
-                let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
-                self.mark_refreshed(graph, view, id, h, false);
-            }
-            NodeSource::StaticCollider(c) if nodes::is_static_collider_node(view, c) => {
-                if let Some(n) = graph.node_mut(id) {
-                    n.seen_step = step;
-                }
-                self.walk.push(id);
-            }
-            NodeSource::Sensor(c) if view.colliders.get(c).is_some_and(|c| c.is_sensor()) => {
-                self.pending_triggers.push(id);
-            }
-            NodeSource::Body(_) | NodeSource::StaticCollider(_) | NodeSource::Sensor(_) => {
-                self.remove_node(graph, groups, id);
-            }
-            NodeSource::Container(_) | NodeSource::Layer(_) => {}
-        }
-    }
-
-    pub(super) fn mark_refreshed(
-        &mut self,
-        graph: &mut ContactGraph,
-        view: &WorldView,
-        id: NodeId,
-        h: RigidBodyHandle,
-        awake: bool,
-    ) {
-        let step = self.step;
-        let rb = view.bodies.get(h);
-        let finite = rb.is_some_and(|rb| {
-            rb.position().translation.is_finite() && rb.position().rotation.is_finite()
-        });
-        let enabled = rb.is_some_and(|rb| rb.is_enabled());
-        let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
-        let resigned = graph
-            .node(id)
-            .is_some_and(|n| n.seen_step != step && n.collider_sig != 0 && n.collider_sig != sig);
-        if resigned {
-            self.colliders_moved(graph, view, id, h);
-        }
-        if let Some(n) = graph.node_mut(id) {
-            if n.seen_step == step {
-                return;
-            }
-            // Under touching tracking, a collider of this body disabled or enabled
-            // again in place: its pairs went or come without a `Stopped` Rapier would
-            // send (those of pairs touching before the layer flagged them), so they
-            // are counted again. Proximity tracking reads the pairs of refreshed
-            // bodies anyway.
-            // Only bodies with such pairs pay for the signature (`Node::pre_flag_touch`):
-            // every other touching pair of theirs sent `Started`, so Rapier sends
-            // its `Stopped` too.
-            let disabled = match (rb, self.tracking()) {
-                (Some(rb), Tracking::Touching) if n.pre_flag_touch => {
-                    Some(nodes::disabled_sig(view, rb.colliders()))
-                }
-                _ => None,
-            };
-            if let Some(disabled) = disabled.filter(|&d| d != n.disabled_sig) {
-                n.disabled_sig = disabled;
-                self.stale.push(id);
-            }
-            n.collider_sig = sig;
-            let was_passive = n.passive;
-            n.seen_step = step;
-            let was_awake = n.awake;
-            n.awake = awake && !matches!(n.kind, NodeKind::Fixed);
-            if was_awake != n.awake && n.group.is_some() {
-                self.awake_flips.push(id);
-            }
-            n.non_finite = !finite;
-            n.passive = !enabled
-                && self
-                    .parking
-                    .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
-                    .is_err();
-            if was_passive != n.passive {
-                self.passive_changed.push(id);
-            }
-            // Sleep events report changes of a simulated, non-passive body's state
-            // against the last reported one: a body created this step starts (no
-            // event), a passive spell or a time as a fixed body reports nothing, and
-            // the events alternate.
-            if n.kind.is_simulated() && !n.passive {
-                match n.reported_awake {
-                    None => n.reported_awake = Some(n.awake),
-                    Some(r) if r != n.awake && n.born_step != step => {
-                        n.reported_awake = Some(n.awake);
-                        self.sleep_changes.push((id, n.awake));
-                    }
-                    Some(_) => n.reported_awake = Some(n.awake),
-                }
-            }
-            if let Some(rb) = rb {
-                self.walk_sensors
-                    .extend(sensors_of(view, rb).map(|c| (id, c)));
-            }
-            self.walk.push(id);
-        }
-    }
-
     /// Sets the held bodies that are disabled for this step on their way out of
     /// Rapier's active set, and those enabled again for this step after it. O(n log n).
     pub(crate) fn set_parking(
@@ -649,124 +571,4 @@ impl Coherence {
         self.parked_now.clear();
         self.parked_now.extend_from_slice(parked_now);
     }
-
-    /// The node owning a collider, from the owner table (slow path: Rapier lookups,
-    /// creating the node if it is missing). `None` for sensors.
-    #[inline]
-    pub(super) fn owner_of(
-        &mut self,
-        graph: &mut ContactGraph,
-        view: &WorldView,
-        collider: ColliderHandle,
-    ) -> Option<NodeId> {
-        let (i, gen) = collider.into_raw_parts();
-        match self.owners.get(i as usize).copied() {
-            Some(Owner::Node(g, n)) if g == gen => match graph.node(n) {
-                // A body refreshed this step had its collider list checked: an entry
-                // naming it is current. Other owners are checked against Rapier.
-                Some(node)
-                    if (node.seen_step == self.step
-                        && matches!(node.source, NodeSource::Body(_)))
-                        || nodes::owns(view, collider, node.source) =>
-                {
-                    return Some(n)
-                }
-                Some(_) => self.owner_moved(n),
-                None => {}
-            },
-            Some(Owner::Nobody(g)) if g == gen => {
-                if view
-                    .colliders
-                    .get(collider)
-                    .is_none_or(|c| c.parent().is_none() && c.is_sensor())
-                {
-                    return None;
-                }
-            }
-            _ => {}
-        }
-        let owner = nodes::ensure_collider_owner(graph, view, collider, &mut self.created);
-        if self.owners.len() <= i as usize {
-            self.owners.resize(i as usize + 1, Owner::Unknown);
-        }
-        self.owners[i as usize] = match owner {
-            Some(n) => Owner::Node(gen, n),
-            None if view.colliders.contains(collider) => Owner::Nobody(gen),
-            None => Owner::Unknown,
-        };
-        owner
-    }
-
-    /// A collider left `old` in place (found when its cached owner no longer owns it):
-    /// `old` is read again at the next update. The new owner is read from the pairs,
-    /// or found by its own collider list. O(1).
-    pub(super) fn owner_moved(&mut self, old: NodeId) {
-        if !self.stale.contains(&old) {
-            self.stale.push(old);
-        }
-        // The pair-slot cache finds edges without owner lookups: it may name the
-        // old owner's edge.
-        self.pair_slots.clear();
-    }
-
-    /// A body's collider list changed since its last refresh (a collider moved to or
-    /// from it, or swapped for another): the owners its colliders had in the cache
-    /// and the body itself are read again, and the lookup caches are dropped (they are
-    /// rebuilt on use). O(its colliders) plus the cost of rebuilding the caches, on
-    /// such a change only.
-    fn colliders_moved(
-        &mut self,
-        graph: &ContactGraph,
-        view: &WorldView,
-        id: NodeId,
-        h: RigidBodyHandle,
-    ) {
-        if let Some(rb) = view.bodies.get(h) {
-            for &c in rb.colliders() {
-                let (i, gen) = c.into_raw_parts();
-                if let Some(Owner::Node(g, n)) = self.owners.get(i as usize).copied() {
-                    if g == gen && n != id && graph.contains_node(n) {
-                        self.owner_moved(n);
-                    }
-                }
-            }
-        }
-        // `owner_moved` drops the pair-slot cache too.
-        self.owner_moved(id);
-        self.owners.clear();
-    }
-
-    /// Whether the world is the one of the last update, as far as an O(1) look tells:
-    /// the addresses of the first stored body and collider. Rapier's sets keep them
-    /// until they grow (which changes their counts, a full scan anyway) or their first
-    /// slot is emptied, so a change means another world or a changed first slot; both
-    /// are read in full. Moving a `PhysicsWorld` value does not move them.
-    fn same_world(&mut self, view: &WorldView) -> bool {
-        let first_body = view
-            .bodies
-            .iter()
-            .next()
-            .map_or(0, |(_, b)| b as *const _ as usize);
-        let first_collider = view
-            .colliders
-            .iter()
-            .next()
-            .map_or(0, |(_, c)| c as *const _ as usize);
-        let mark = Some((first_body, first_collider));
-        let same = self.world_mark.is_none() || *self.world_mark == mark;
-        *self.world_mark = mark;
-        same
-    }
-}
-
-/// The body's sensor colliders: the look that gives a collider turned into a sensor
-/// in place its trigger in the same step. O(the body's colliders).
-fn sensors_of<'a>(
-    view: &'a WorldView,
-    rb: &'a rapier3d::prelude::RigidBody,
-) -> impl Iterator<Item = ColliderHandle> + 'a {
-    rb.colliders()
-        .iter()
-        .copied()
-        .filter(|&c| view.colliders.get(c).is_some_and(|c| c.is_sensor()))
 }

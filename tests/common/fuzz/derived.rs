@@ -79,7 +79,10 @@ pub(super) fn derived(layer: &ContactLayer, skip: &dyn Fn(Key, Key) -> bool) -> 
             continue;
         };
         match e.kind() {
-            EdgeKind::Physical if e.is_proximate() && !skip(ka, kb) => {
+            // A held body's frozen contacts (`ContactGraph::is_frozen`) are the
+            // layer's own record: Rapier computes none for them, so a fresh layer
+            // cannot know them.
+            EdgeKind::Physical if e.is_proximate() && !skip(ka, kb) && !g.is_frozen(e) => {
                 let c = e.cache();
                 d.physical.insert(
                     sorted(ka, kb),
