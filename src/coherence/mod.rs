@@ -22,78 +22,18 @@
 //! The cost is proportional to the refreshed bodies' pairs, never to all pairs: the
 //! pairs of sleeping bodies are frozen in Rapier and stay exact in the graph.
 //!
-//! # Idle steps
-//! A step in which nothing is awake (Rapier's active set is empty and was at the last
-//! update), no touch began or ended and nothing was asked for, created, removed,
-//! parked or unparked, in a scene without triggers, is *idle*: the update would read
-//! nothing and change nothing, so after the round-robin verification it stops; the
-//! groups and the speed-ups skip their work likewise, keeping only what watches
-//! changes no Rapier list tells (the held bodies' static supporters, the joints'
-//! fingerprint). A settled, held scene so costs the layer a few field reads per step
-//! (`tests/held_bodies_cost_nothing.rs` checks that idle steps change nothing and
-//! that what the user changes meanwhile is seen).
-//!
-//! # The round-robin verification
-//! A few graph nodes, Rapier body slots and collider slots are checked per step
-//! (`update.rs`): one of each per [`AWAKE_BODIES_PER_VERIFIED_SLOT`] bodies Rapier
-//! integrated in the last step, between [`VERIFY_IDLE_PER_STEP`] and
-//! [`VERIFY_PER_STEP`] ([`Coherence::verify_budget`]); a kind with at most
-//! [`VERIFY_PER_STEP`] slots is checked whole. Its cost so follows Rapier's: a fixed
-//! number of slot reads per step (most of them cache misses) cost more than Rapier's
-//! whole step on a sleeping box pile. What it finds (changes no Rapier list
-//! tells, below) it finds within `slots / budget` steps, or at once after
-//! [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync).
-//!
-//! # Overlaps whose two sides are never refreshed
-//! Refreshing only what moves misses a change of an overlap between two nodes that are
-//! both not refreshed: fixed bodies, static colliders, sleeping or passive bodies, and
-//! triggers carried by them. Rapier knows what the user changed (its modified-body and
-//! modified-collider lists and per-object change flags), but none of it is public:
-//! `ColliderSet::take_modified` empties the list Rapier's own step needs, and it
-//! cannot be put back. So the layer notices such changes itself, each at a cost
-//! proportional to what changed or to the (few) triggers, never to all colliders:
-//! - the layer's own changes: a rule's members of every kind, a body made passive or
-//!   active, a sensor whose collision types the layer widened, are refreshed at the
-//!   next update;
-//! - a body whose number of colliders changed is refreshed by the full scan that the
-//!   changed collider count starts anyway (a fixed body losing its collider inside a
-//!   trigger);
-//! - a trigger that no refreshed body carries is read again when its sensor
-//!   collider's pose, enabled flag or shape changed (a fixed or passive carrier
-//!   moved, a parentless sensor moved): O(triggers) per update, a compare each;
-//! - the sensors of the refreshed bodies are always looked for, so a collider turned
-//!   into a sensor gets its trigger in the same step (O(their colliders));
-//! - what none of this sees (a fixed body or static collider moved, retyped or turned
-//!   into a sensor in place; a sleeping body changed without waking it) needs
-//!   [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync), which refreshes every node at the next update:
-//!   O(nodes + pairs), on request only.
-//!
-//! # Colliders changed in place
-//! A collider can change owner without any count changing: `ColliderSet::set_parent`
-//! moves it to another body or detaches it, a body gains one collider and loses
-//! another between two steps, a collider turns into a sensor. The analysis looks up a
-//! collider's owner in a cache (two array reads per pair instead of Rapier lookups),
-//! so a stale entry would put a pair on the wrong edge. Rapier wakes the new parent
-//! and the bodies the collider touches for such a change, so the layer checks:
-//! - each refreshed body's collider list against a signature kept on its node
-//!   (O(its colliders), the body being read anyway): a change drops the caches and
-//!   reads again the body and the owners its colliders had;
-//! - a cached owner that was not refreshed this step, on use: one collider lookup
-//!   (does it still own the collider?), a stale one is read again;
-//! - a few collider slots per step, round robin (see above), against the cache (what
-//!   neither side would notice: a collider moved between two fixed bodies);
-//! - the world itself: the addresses of its first body and collider, O(1); another
-//!   world handed to the same layer (same counts) is read in full, as after
-//!   `request_full_sync`, which also drops the caches.
-//!
-//! Rejected: comparing every collider's parent, sensor and enabled flags each step.
-//! Each collider is its own cache line, so on sleeping box piles this costs several
-//! times Rapier's whole sleeping step, growing with the collider count (measured:
-//! `docs/ARCHITECTURE.md`).
-//!
-//! Rejected: reading every trigger every step (a trigger over a settled pile would cost
-//! its pairs every step), and refreshing every node on every full scan (a scene that
-//! spawns a body per step would pay for all its pairs every step).
+//! # Idle steps, verification, and what Rapier does not report
+//! A step with nothing awake, no transition and nothing asked for is *idle*: the
+//! update stops after the round-robin verification (O(1) beyond it). The
+//! verification (`verify.rs`) checks a few graph nodes and Rapier body and collider
+//! slots per step, as many as the awake bodies warrant
+//! ([`Coherence::verify_budget`]), for changes no Rapier list tells; colliders moved
+//! between bodies in place are caught by a signature per refreshed body and a check
+//! of cached owners on use (`owners.rs`). What none of it sees (a fixed body or static
+//! collider moved or retyped in place, a sleeping body changed without waking it)
+//! needs [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync):
+//! O(nodes + pairs), on request only. The design, with the alternatives rejected, is
+//! in `docs/ARCHITECTURE.md`, "What the analysis notices".
 //!
 //! # What a step exposes
 //! [`Coherence::touched_edges`] lists the edges refreshed in the step (their marks
@@ -132,16 +72,16 @@ use crate::WorldView;
 
 /// Nodes (and Rapier body and collider slots) checked per step by the round-robin
 /// verification at most: while at least `16 × VERIFY_PER_STEP` bodies are awake.
-pub const VERIFY_PER_STEP: usize = 32;
+pub(crate) const VERIFY_PER_STEP: usize = 32;
 
 /// Slots checked per step by the round-robin verification at least: while the whole
 /// scene sleeps or is held (see [`Coherence::verify_budget`]).
-pub const VERIFY_IDLE_PER_STEP: usize = 2;
+pub(crate) const VERIFY_IDLE_PER_STEP: usize = 2;
 
 /// Awake bodies per verified slot: the round robin checks one slot of each kind per
 /// this many bodies Rapier integrated at the last step (between
-/// [`VERIFY_IDLE_PER_STEP`] and [`VERIFY_PER_STEP`]).
-pub const AWAKE_BODIES_PER_VERIFIED_SLOT: usize = 16;
+/// `VERIFY_IDLE_PER_STEP` and `VERIFY_PER_STEP`).
+pub(crate) const AWAKE_BODIES_PER_VERIFIED_SLOT: usize = 16;
 
 /// A lingering (vanished) edge is tested for obsolescence every this many steps.
 pub const OBSOLETE_EVERY: u64 = 16;
@@ -480,7 +420,7 @@ fn rule_applied(
 }
 
 /// The next `n` slots after a round-robin cursor, advancing it by as many: all `span`
-/// slots when there are at most [`VERIFY_PER_STEP`] (a small world is checked whole
+/// slots when there are at most `VERIFY_PER_STEP` (a small world is checked whole
 /// every step, at the price of a few slots of a large one), otherwise `n`.
 fn round_robin(cursor: &mut u32, span: u32, n: usize) -> impl Iterator<Item = u32> {
     let count = if span as usize <= VERIFY_PER_STEP {

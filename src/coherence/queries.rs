@@ -28,9 +28,9 @@ impl Coherence {
     /// Slots of each kind (graph nodes, Rapier body slots, Rapier collider slots, and
     /// colliders' `COLLISION_EVENTS` flags under touching tracking) the round-robin
     /// verification checks in the next step: one per
-    /// [`AWAKE_BODIES_PER_VERIFIED_SLOT`] bodies Rapier integrated in the last step,
-    /// between [`VERIFY_IDLE_PER_STEP`] and [`VERIFY_PER_STEP`]; a kind with at most
-    /// [`VERIFY_PER_STEP`] slots is checked whole every step. The check's cost so
+    /// `AWAKE_BODIES_PER_VERIFIED_SLOT` bodies Rapier integrated in the last step,
+    /// between `VERIFY_IDLE_PER_STEP` and `VERIFY_PER_STEP`; a kind with at most
+    /// `VERIFY_PER_STEP` slots is checked whole every step. The check's cost so
     /// follows Rapier's own (a large sleeping or held scene pays for two slots of each
     /// kind per step, a scene of 512 awake bodies or more for 32), and so does the
     /// time it takes to find a change no Rapier list tells (see
