@@ -1,17 +1,20 @@
 //! [`Harness::step`]: one step of the layer, then every check of
-//! `tests/fuzz_operations.rs` (1. `validate()`, 2. the event contract, 3. the
-//! subscriptions, 5. awake and passive flags against Rapier, 4. the graph against a
-//! fresh layer's).
+//! `tests/fuzz_operations.rs` (the twin, 1. `validate()` and the touching oracle, 2.
+//! the event contract, 3. the subscriptions, 5. awake, passive and held flags against
+//! Rapier, 4. the graph against a fresh layer's).
 
 use std::collections::{HashMap, HashSet};
 
 use rapier_contact_graph::rapier3d::prelude::*;
-use rapier_contact_graph::{ContactLayer, Error, Event, NodeId, NodeKind, Rule, WorldView};
+use rapier_contact_graph::{
+    ContactLayer, Error, Event, KindSet, NodeId, NodeKind, Rule, WorldView,
+};
 
 use super::contract::{matches, InForce};
 use super::derived::{derived, diff, key_of, set_diff, Key};
 use super::ops::raw;
-use super::Harness;
+use super::oracle::touching_agrees;
+use super::{Asked, Harness};
 
 impl Harness {
     fn in_force(&self) -> InForce {
@@ -24,8 +27,8 @@ impl Harness {
             passive: self
                 .passive
                 .values()
-                .filter(|(h, on)| *on && self.world.bodies.contains(*h))
-                .filter_map(|(h, _)| self.layer.node_of_body(*h).ok())
+                .filter(|a| a.disabled && self.world.bodies.contains(a.handle))
+                .filter_map(|a| self.layer.node_of_body(a.handle).ok())
                 .collect(),
         }
     }
@@ -40,7 +43,14 @@ impl Harness {
             if !matches!(e, Error::Unsupported { .. }) {
                 return Err(format!("refusal of {h:?} is not Unsupported: {e}"));
             }
-            self.passive.insert(raw(h), (h, false));
+            self.passive.insert(
+                raw(h),
+                Asked {
+                    handle: h,
+                    disabled: false,
+                    by_layer: true,
+                },
+            );
             if let Ok(n) = self.layer.node_of_body(h) {
                 in_force.passive.remove(&n);
             }
@@ -50,7 +60,8 @@ impl Harness {
         {
             self.log.passive = in_force.passive.clone();
         }
-        (self.added, self.removed) = (false, false);
+        (self.added, self.removed, self.fresh) = (false, false, false);
+        self.pending.clear();
         self.counters.steps += 1;
         if self.layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching
         {
@@ -59,7 +70,8 @@ impl Harness {
         let step = self.layer.current_step();
         self.quarantined
             .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
-        self.check(step, &in_force)
+        self.step_twin()
+            .and_then(|()| self.check(step, &in_force))
             .map_err(|e| format!("after step {step}: {e}"))
     }
 
@@ -73,10 +85,21 @@ impl Harness {
             .filter(|(_, b)| b.is_sleeping() && !b.is_fixed())
             .count() as u64;
 
-        // 1. validate().
+        // 1. validate(), and the touching oracle.
         layer
             .validate(world)
             .map_err(|e| format!("validate() failed: {e}"))?;
+        self.counters.touching_pairs += touching_agrees(layer, world)?;
+        // Under touching tracking no kind that needs every pair read is generated.
+        if layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching {
+            if let Some(e) = layer
+                .last_events()
+                .iter()
+                .find(|e| KindSet::NEEDS_EVERY_PAIR.contains(e.kind))
+            {
+                return Err(format!("under touching tracking: {e:?}"));
+            }
+        }
 
         // 2. The contract.
         let got: Vec<Event> = self.rx.try_iter().collect();
@@ -158,10 +181,39 @@ impl Harness {
                     parking.contains(&h)
                 ));
             }
-            if let Some((_, asked)) = self.passive.get(&raw(h)) {
-                if *asked == enabled && !self.quarantined.contains(&raw(h)) {
+            if let Some(a) = self.passive.get(&raw(h)) {
+                if a.disabled == enabled && !self.quarantined.contains(&raw(h)) {
+                    let by = if a.by_layer {
+                        "set_body_disabled"
+                    } else {
+                        "the user's own set_enabled: disabled"
+                    };
                     return Err(format!(
-                        "body {h:?}: set_body_disabled({asked}) asked, Rapier enabled = {}",
+                        "body {h:?}: {by}({}) asked, Rapier enabled = {} (parking: {})",
+                        a.disabled,
+                        rb.is_enabled(),
+                        parking.contains(&h)
+                    ));
+                }
+            }
+        }
+        // Held bodies: fixed to Rapier; those on their step out of Rapier's active set
+        // disabled too (what the speed-ups say they changed is what Rapier has).
+        if let Some(s) = layer.speedups() {
+            for h in s.fixated() {
+                self.counters.held_seen += 1;
+                self.counters.parked_seen += u64::from(s.is_parked(h));
+            }
+            for h in s.parking() {
+                let rb = world
+                    .bodies
+                    .get(h)
+                    .ok_or_else(|| format!("parking body {h:?} is not in the world"))?;
+                if !s.is_fixated(h) || !rb.is_fixed() || rb.is_enabled() {
+                    return Err(format!(
+                        "parking body {h:?}: held {}, fixed {}, enabled {}",
+                        s.is_fixated(h),
+                        rb.is_fixed(),
                         rb.is_enabled()
                     ));
                 }

@@ -14,6 +14,11 @@ pub(super) struct Contract {
     /// Whether the checked stream carries the proximity kinds (the base subscriber
     /// of touching mode does not: its touches are checked without proximity spans).
     proximity: bool,
+    /// Whether it carries contact and sensor spans (starts and stops).
+    touches: bool,
+    sensors: bool,
+    /// Whether the layer runs a monitor (else a monitor event is a failure).
+    monitor: bool,
     prox: HashSet<(NodeId, NodeId)>,
     touch: HashSet<(NodeId, NodeId)>,
     inside: HashSet<(NodeId, NodeId)>,
@@ -29,9 +34,15 @@ pub(super) struct InForce {
 }
 
 impl Contract {
-    pub(super) fn new(proximity: bool) -> Self {
+    /// A checker of the events `base` admits.
+    pub(super) fn new(base: &Filter, monitor: bool) -> Self {
+        let k = base.kinds_set();
+        let both = |a, b| k.contains(a) && k.contains(b);
         Self {
-            proximity,
+            proximity: both(EventKind::ProximityStarted, EventKind::ProximityStopped),
+            touches: both(EventKind::ContactStarted, EventKind::ContactStopped),
+            sensors: both(EventKind::SensorStarted, EventKind::SensorStopped),
+            monitor,
             prox: HashSet::new(),
             touch: HashSet::new(),
             inside: HashSet::new(),
@@ -153,8 +164,14 @@ impl Contract {
                     return bad("sleep event disagrees with the node's awake flag");
                 }
             }
-            // The sequences run without the monitor.
-            Violation | Repaired => return bad("monitor event without a monitor"),
+            Violation | Repaired => {
+                if !self.monitor {
+                    return bad("monitor event without a monitor");
+                }
+                if ev.node2.is_some() || ev.violation.is_none() {
+                    return bad("monitor event names two nodes, or no violation");
+                }
+            }
         }
         Ok(())
     }
@@ -185,8 +202,15 @@ impl Contract {
             }
         }
         let mut out = String::new();
+        // Spans of kinds the stream does not carry are not followed.
         if !self.proximity {
             prox.clear();
+        }
+        if !self.touches {
+            touch.clear();
+        }
+        if !self.sensors {
+            inside.clear();
         }
         for (what, graph, stream) in [
             ("proximity", &prox, &self.prox),

@@ -25,6 +25,52 @@ impl Ty {
     }
 }
 
+/// Which body a user's own Rapier call goes to (index modulo the candidates; a
+/// kind without candidates falls back to the next: parked, held, any).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Who {
+    /// Any body, in Rapier's slot order.
+    Any(u8),
+    /// A body the layer holds (`ContactLayer::holds`: fixated by the speed-ups, or
+    /// asleep in Rapier).
+    Held(u8),
+    /// A held body the speed-ups took out of Rapier's active set
+    /// (`SpeedUpState::is_parked`: disabled for this step, or parked since).
+    Parked(u8),
+}
+
+/// A user's own Rapier call on a body, as a Rapier user writes it (the layer is not
+/// told).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Call {
+    /// `RigidBody::apply_impulse(.., true)` (×0.5 N·s per unit mass).
+    Impulse { x: i8, y: i8, z: i8 },
+    /// `RigidBody::set_linvel(.., true)` (×0.5 m/s).
+    Linvel { x: i8, y: i8, z: i8 },
+    /// `RigidBody::set_body_type(.., true)`.
+    Type(Ty),
+    /// `RigidBody::set_enabled`.
+    Enabled(bool),
+    /// `RigidBody::sleep()`.
+    Sleep,
+    /// `RigidBody::wake_up(true)`.
+    Wake,
+    /// `RigidBodySet::remove` with the islands, colliders and joints (colliders kept
+    /// as parentless ones with `keep_colliders`).
+    Remove { keep_colliders: bool },
+}
+
+/// The second layer on the same world (two subsystems of a game taking turns).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Second {
+    /// `ContactLayer::new()` (if there is none).
+    Attach,
+    /// `ContactLayer::detach`.
+    Detach,
+    /// n steps (1..=5) of the second layer's `step` instead of the first's.
+    Step(u8),
+}
+
 /// One operation. Grid coordinates: x, z in -4..=4 (×0.5 m), y in 0..=6 (0.5 m +
 /// ×0.5 m above the floor). Indices are taken modulo the live objects.
 #[derive(Clone, Debug)]
@@ -160,6 +206,17 @@ pub enum Op {
     FullSync,
     /// n steps (1..=40).
     Step(u8),
+    /// A user's own Rapier call on a body, held or parked ones included.
+    User(Who, Call),
+    /// n steps (1..=3) of Rapier's `PhysicsWorld::step`, which the layer does not see.
+    Unseen(u8),
+    /// A second layer on the same world.
+    Second(Second),
+    /// The monitor repairing (`MonitorMode::Repair`, default thresholds) or off.
+    Monitor(bool),
+    /// The configuration's preset speed-ups again (`set_speedups(Some(preset))`); in
+    /// a configuration without speed-ups, `set_speedups(None)`.
+    Preset,
 }
 
 pub(super) fn grid(x: i8, y: u8, z: i8) -> Vector {

@@ -1,9 +1,11 @@
 //! The proptest generator of operation sequences: 20–60 operations, steps the most
-//! frequent, with weights that keep the world busy but small (tests only).
+//! frequent, with weights that keep the world busy but small, and what each
+//! configuration adds or leaves out (tests only).
 
-use super::{Op, Ty};
+use super::{Call, Config, Op, Second, Ty, Who};
 use proptest::prelude::*;
-use proptest::strategy::Union;
+use proptest::strategy::{BoxedStrategy, Union};
+use rapier_contact_graph::KindSet;
 
 fn xz() -> impl Strategy<Value = i8> {
     -4i8..=4
@@ -27,8 +29,80 @@ fn ty() -> impl Strategy<Value = Ty> {
     ]
 }
 
-pub fn op() -> impl Strategy<Value = Op> {
-    Union::new_weighted(vec![
+/// A mask of event kinds: under the configurations that want touching tracking in
+/// effect, nine in ten leave out the kinds that need every pair read (a subscription
+/// to one of them switches the layer to proximity tracking while it lives).
+fn kinds(config: Config) -> BoxedStrategy<u16> {
+    let touching = config.expects_touching() == Some(true);
+    (any::<u16>(), 0u8..10)
+        .prop_map(move |(m, d)| {
+            if touching && d != 0 {
+                m & !every_pair_bits()
+            } else {
+                m
+            }
+        })
+        .boxed()
+}
+
+fn every_pair_bits() -> u16 {
+    rapier_contact_graph::EventKind::ALL
+        .iter()
+        .filter(|k| KindSet::NEEDS_EVERY_PAIR.contains(**k))
+        .fold(0, |m, k| m | 1 << (*k as u8))
+}
+
+fn who() -> impl Strategy<Value = Who> {
+    prop_oneof![
+        idx().prop_map(Who::Any),
+        idx().prop_map(Who::Held),
+        idx().prop_map(Who::Parked),
+    ]
+}
+
+fn call() -> impl Strategy<Value = Call> {
+    let v = || -4i8..=4;
+    prop_oneof![
+        3 => (v(), v(), v()).prop_map(|(x, y, z)| Call::Impulse { x, y, z }),
+        2 => (v(), v(), v()).prop_map(|(x, y, z)| Call::Linvel { x, y, z }),
+        2 => ty().prop_map(Call::Type),
+        2 => any::<bool>().prop_map(Call::Enabled),
+        1 => Just(Call::Sleep),
+        2 => Just(Call::Wake),
+        1 => any::<bool>().prop_map(|keep_colliders| Call::Remove { keep_colliders }),
+    ]
+}
+
+/// The operations of the configuration: every world and layer operation; the
+/// user's own calls (more often where bodies are held); the speed-ups switched only
+/// where a preset runs (observe-only configurations stay observe-only); steps the
+/// layer does not see and the second layer where [`Config::unseen_steps`] allows.
+pub fn op(config: Config) -> impl Strategy<Value = Op> {
+    let mut v = common_ops(config);
+    let speedups = config.speedups().is_some();
+    v.push((
+        if speedups { 10 } else { 5 },
+        (who(), call()).prop_map(|(w, c)| Op::User(w, c)).boxed(),
+    ));
+    if speedups {
+        v.push((1, prop::option::of(0u8..128).prop_map(Op::SpeedUps).boxed()));
+        v.push((1, Just(Op::Preset).boxed()));
+        v.push((1, any::<bool>().prop_map(Op::Monitor).boxed()));
+    }
+    if config.unseen_steps() {
+        v.push((2, (1u8..=3).prop_map(Op::Unseen).boxed()));
+        v.push((1, Just(Op::Second(Second::Attach)).boxed()));
+        v.push((1, Just(Op::Second(Second::Detach)).boxed()));
+        v.push((
+            3,
+            (1u8..=5).prop_map(|n| Op::Second(Second::Step(n))).boxed(),
+        ));
+    }
+    Union::new_weighted(v)
+}
+
+fn common_ops(config: Config) -> Vec<(u32, BoxedStrategy<Op>)> {
+    vec![
         (
             8,
             (xz(), y(), xz(), 0u8..4)
@@ -186,7 +260,7 @@ pub fn op() -> impl Strategy<Value = Op> {
         (1, idx().prop_map(Op::RemoveTimer).boxed()),
         (
             2,
-            (any::<u16>(), 0u8..9, prop::option::of(idx()))
+            (kinds(config), 0u8..9, prop::option::of(idx()))
                 .prop_map(|(kinds, capacity, node)| Op::Subscribe {
                     kinds,
                     capacity,
@@ -197,7 +271,7 @@ pub fn op() -> impl Strategy<Value = Op> {
         (
             1,
             (
-                any::<u16>(),
+                kinds(config),
                 prop::option::of(idx()),
                 prop::option::of(idx()),
             )
@@ -210,21 +284,33 @@ pub fn op() -> impl Strategy<Value = Op> {
         ),
         (1, idx().prop_map(Op::Unsubscribe).boxed()),
         (1, idx().prop_map(Op::DropReceiver).boxed()),
-        (2, prop::option::of(0u8..128).prop_map(Op::SpeedUps).boxed()),
         (2, any::<bool>().prop_map(Op::Touching).boxed()),
         (1, Just(Op::FullSync).boxed()),
         (20, (1u8..=5).prop_map(Op::Step).boxed()),
-        (2, (20u8..=40).prop_map(Op::Step).boxed()),
-    ])
+        // Long runs let bodies settle and sleep, and the speed-ups hold them.
+        (
+            if config.speedups().is_some() { 6 } else { 2 },
+            (20u8..=40).prop_map(Op::Step).boxed(),
+        ),
+    ]
 }
 
-/// Half of the sequences start with `Touching(true)`: they run in touching mode
-/// (`Harness::with_mode`), with touching tracking in effect until an operation
-/// switches it to proximity.
-pub fn ops() -> impl Strategy<Value = Vec<Op>> {
-    (any::<bool>(), prop::collection::vec(op(), 20..=60)).prop_map(|(touching, mut ops)| {
-        if touching {
-            ops.insert(0, Op::Touching(true));
+/// Whether an operation lets an observe-only layer change motion (the twin is
+/// dropped at the first one).
+fn changes_motion(op: &Op) -> bool {
+    matches!(
+        op,
+        Op::IgnorePair(..) | Op::IgnoreBetween(..) | Op::Passive(..) | Op::SpeedUps(Some(_))
+    )
+}
+
+/// 20–60 operations of the configuration. Under observe-only configurations half of
+/// the sequences have no operation that lets the layer change motion (rules,
+/// passive bodies), so that the twin is compared all along.
+pub fn ops(config: Config) -> impl Strategy<Value = Vec<Op>> {
+    (any::<bool>(), prop::collection::vec(op(config), 20..=60)).prop_map(move |(pure, mut ops)| {
+        if pure && config.observe_only() {
+            ops.retain(|op| !changes_motion(op));
         }
         ops
     })

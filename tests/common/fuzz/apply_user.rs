@@ -1,0 +1,256 @@
+//! The operations a Rapier user does behind the layer's back: their own calls on any
+//! body, held or parked ones included ([`Op::User`]); steps of Rapier the layer does
+//! not see ([`Op::Unseen`]); a second layer on the same world taking turns with the
+//! first ([`Op::Second`]). What Rapier itself would panic on is skipped (each place
+//! says why).
+//!
+//! [`Op::User`]: super::Op::User
+//! [`Op::Unseen`]: super::Op::Unseen
+//! [`Op::Second`]: super::Op::Second
+
+use rapier_contact_graph::coherence::Tracking;
+use rapier_contact_graph::rapier3d::prelude::*;
+use rapier_contact_graph::{ContactLayer, WorldMut};
+
+use super::ops::{pick, raw, vel};
+use super::oracle::touching_agrees;
+use super::{Asked, Call, Config, Harness, Second, Who};
+
+impl Harness {
+    /// The body a user's call goes to: parked, held or any, each falling back to the
+    /// next when there is none.
+    fn target(&self, who: Who) -> Option<RigidBodyHandle> {
+        let all: Vec<RigidBodyHandle> = self.world.bodies.iter().map(|(h, _)| h).collect();
+        let held: Vec<RigidBodyHandle> = all
+            .iter()
+            .copied()
+            .filter(|&h| self.layer.holds(&self.world.bodies, h))
+            .collect();
+        let parked: Vec<RigidBodyHandle> = self
+            .layer
+            .speedups()
+            .map(|s| all.iter().copied().filter(|&h| s.is_parked(h)).collect())
+            .unwrap_or_default();
+        match who {
+            Who::Parked(i) => pick(&parked, i)
+                .or_else(|| pick(&held, i))
+                .or_else(|| pick(&all, i)),
+            Who::Held(i) => pick(&held, i).or_else(|| pick(&all, i)),
+            Who::Any(i) => pick(&all, i),
+        }
+    }
+
+    /// Whether the body is a multibody link or has an impulse joint to a disabled
+    /// body: Rapier panics on a disabled multibody link, and on a joint between two
+    /// disabled bodies (the layer guards only the bodies it made passive itself).
+    fn jointed_to_disabled_or_link(&self, h: RigidBodyHandle) -> bool {
+        self.world.multibody_joints.rigid_body_link(h).is_some()
+            || self
+                .world
+                .impulse_joints
+                .attached_joints(h)
+                .any(|(b1, b2, ..)| {
+                    let other = if b1 == h { b2 } else { b1 };
+                    self.world
+                        .bodies
+                        .get(other)
+                        .is_some_and(|rb| !rb.is_enabled())
+                })
+    }
+
+    /// A user's own Rapier call on a body: the layer is not told.
+    pub(super) fn user_call(&mut self, who: Who, call: Call) -> Result<(), String> {
+        let Some(h) = self.target(who) else {
+            return Ok(());
+        };
+        self.counters.user_calls += 1;
+        if self.layer.holds(&self.world.bodies, h) {
+            self.counters.user_calls_held += 1;
+        }
+        match call {
+            Call::Impulse { x, y, z } => {
+                let v = Vector::new(vel(x), vel(y), vel(z));
+                self.both(|w| {
+                    let rb = &mut w.bodies[h];
+                    let m = rb.mass();
+                    rb.apply_impulse(v * m, true);
+                });
+            }
+            Call::Linvel { x, y, z } => {
+                let v = Vector::new(vel(x), vel(y), vel(z));
+                self.both(|w| w.bodies[h].set_linvel(v, true));
+            }
+            Call::Type(ty) => {
+                // Rapier asserts that a multibody's non-root links are dynamic.
+                if self.non_root_link(h) || self.type_avoided(h, ty) {
+                    return Ok(());
+                }
+                // As the docs ask: a full sync after changing a sleeping, fixed or
+                // passive body's type; not for a held body, which is dynamic to its
+                // user (the layer answers the user's type itself: rule 4 of
+                // "Releasing held bodies").
+                let sync = self.needs_sync(h) && !self.held(h);
+                self.both(|w| w.bodies[h].set_body_type(ty.rapier(), true));
+                if sync {
+                    self.layer.request_full_sync();
+                }
+            }
+            Call::Enabled(on) => {
+                // Not disabled in its parking step: the layer enables it again
+                // (`bug_a_held_body_the_user_disables_while_parking_stays_disabled`);
+                // nor a body held ones rest on: their frozen edges stay
+                // (`bug_a_body_made_passive_keeps_no_frozen_edge`).
+                let parking = self
+                    .layer
+                    .speedups()
+                    .is_some_and(|s| s.parking().any(|p| p == h));
+                if self.jointed_to_disabled_or_link(h)
+                    || (!on && self.steer && (parking || self.touches_held(h)))
+                    || (!on && self.misjudged_now(h, false, true))
+                {
+                    return Ok(());
+                }
+                // The docs ask for a full sync after changing a sleeping, fixed or
+                // disabled body in place (Rapier wakes nothing for it). A held body
+                // (fixed to Rapier, dynamic to its user) gets one too, though its user
+                // may not know it is held: without it the layer keeps its node active
+                // (`bug_a_held_body_the_user_disables_is_passive_in_the_graph`).
+                let sync = self.needs_sync(h) && (self.steer || !self.held(h));
+                self.both(|w| w.bodies[h].set_enabled(on));
+                if sync {
+                    self.layer.request_full_sync();
+                }
+                // A `set_body_disabled` since the last step is applied after this
+                // call, at the next pre-step: it stays the last word.
+                if !self.pending.contains(&raw(h)) {
+                    let asked = Asked {
+                        handle: h,
+                        disabled: !on,
+                        by_layer: false,
+                    };
+                    self.passive.insert(raw(h), asked);
+                }
+            }
+            Call::Sleep => {
+                if !self.misjudged_now(h, true, false) {
+                    self.both(|w| w.bodies[h].sleep());
+                }
+            }
+            Call::Wake => self.both(|w| w.bodies[h].wake_up(true)),
+            Call::Remove { keep_colliders } => {
+                // Colliders kept by a removed body are static geometry now: a full
+                // sync, or under touching tracking their touching pairs are lost
+                // (`bug_a_collider_kept_by_a_removed_body_keeps_its_touching_pairs`).
+                if self.steer && keep_colliders && !self.world.bodies[h].colliders().is_empty() {
+                    self.layer.request_full_sync();
+                }
+                self.both(|w| {
+                    w.bodies.remove(
+                        h,
+                        &mut w.islands,
+                        &mut w.colliders,
+                        &mut w.impulse_joints,
+                        &mut w.multibody_joints,
+                        &mut w.soft_bodies,
+                        !keep_colliders,
+                    );
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether steps one layer does not see are left out now: while a kinematic body
+    /// rests in the world, a layer under touching tracking does not notice the steps
+    /// it missed (`bug_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`,
+    /// `bug_two_layers_taking_turns_with_a_kinematic_body_at_rest` in
+    /// `tests/fuzz_regressions_tracking.rs`). Not under the proximity configuration,
+    /// where both layers read every pair.
+    ///
+    /// Nor, while the twin is compared, when colliders were inserted since the last
+    /// step: Rapier alone steps them without `COLLISION_EVENTS`, and the flag the
+    /// layer adds afterwards changes the trajectories
+    /// (`bug_flags_added_after_an_unseen_step_change_no_trajectory`).
+    pub(super) fn unseen_avoided(&self) -> bool {
+        let resting_kinematic = || {
+            self.world.bodies.iter().any(|(_, rb)| {
+                rb.is_kinematic() && rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
+            })
+        };
+        self.steer
+            && ((self.config != Config::Proximity && resting_kinematic())
+                || (self.twin.is_some() && self.fresh))
+    }
+
+    /// One step of Rapier alone (`PhysicsWorld::step`): the layer does not see it.
+    /// Nothing of the layer is checked (it has not analysed); the twin is.
+    pub(super) fn unseen_step(&mut self) -> Result<(), String> {
+        if self.unseen_avoided() {
+            return Ok(());
+        }
+        self.world.step();
+        self.fresh = false;
+        self.counters.unseen_steps += 1;
+        self.quarantined
+            .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
+        self.step_twin()
+            .map_err(|e| format!("after an unseen step: {e}"))
+    }
+
+    /// The second layer: attached, detached, or stepping instead of the first.
+    pub(super) fn second(&mut self, op: Second) -> Result<(), String> {
+        match op {
+            Second::Attach => {
+                if self.second.is_none() {
+                    let mut l = ContactLayer::new();
+                    // Under the proximity configuration both layers read every pair.
+                    if self.config == Config::Proximity {
+                        l.set_tracking(Tracking::Proximity);
+                    }
+                    self.second = Some(l);
+                }
+            }
+            Second::Detach => {
+                if let Some(l) = self.second.take() {
+                    l.detach(WorldMut::from(&mut self.world));
+                    // It took off the `COLLISION_EVENTS` flags it added, which the
+                    // first layer may have found set and relied on: the docs ask for a
+                    // full sync after such flags go.
+                    self.layer.request_full_sync();
+                }
+            }
+            Second::Step(n) => {
+                for _ in 0..n.clamp(1, 5) {
+                    self.second_step()?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One step of the second layer (if attached), then its checks: `validate()`, the
+    /// touching oracle, the twin.
+    fn second_step(&mut self) -> Result<(), String> {
+        if self.unseen_avoided() {
+            return Ok(());
+        }
+        let Some(l) = self.second.as_mut() else {
+            return Ok(());
+        };
+        l.step(&mut self.world);
+        self.fresh = false;
+        let step = l.current_step();
+        self.counters.second_steps += 1;
+        self.quarantined
+            .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
+        let l = self.second.as_ref().expect("attached");
+        let checked = l
+            .validate(&self.world)
+            .map_err(|e| format!("validate() failed: {e}"))
+            .and_then(|()| touching_agrees(l, &self.world));
+        let pairs = checked.map_err(|e| format!("second layer, after its step {step}: {e}"))?;
+        self.counters.touching_pairs += pairs;
+        self.step_twin()
+            .map_err(|e| format!("second layer, after its step {step}: {e}"))
+    }
+}
