@@ -210,13 +210,17 @@ fn events_name_the_sensor_and_the_static_collider() {
             && (e.collider1 == Some(ledge) || e.collider2 == Some(ledge))
     });
     assert!(on_ledge, "a touch with the ledge names its collider");
-    assert!(
-        events
-            .iter()
-            .filter(|e| e.body1.is_some() && e.kind == EventKind::ContactStarted)
-            .all(|e| e.collider1.is_none()),
-        "a body has no collider of its own in an event"
-    );
+    // A contact event names the collider pair Rapier reported: a collider of each
+    // body (`collider1` of `body1`), as Rapier's `CollisionEvent` does.
+    for e in events
+        .iter()
+        .filter(|e| e.kind == EventKind::ContactStarted)
+    {
+        let owner = |c: Option<ColliderHandle>| c.and_then(|c| world.colliders[c].parent());
+        assert!(e.collider1.is_some() && e.collider2.is_some(), "{e:?}");
+        assert_eq!(owner(e.collider1), e.body1, "{e:?}");
+        assert_eq!(owner(e.collider2), e.body2, "{e:?}");
+    }
 }
 
 /// Contact details on demand: `contact_details` and `supports_of_body` read Rapier's

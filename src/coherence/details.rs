@@ -70,6 +70,52 @@ pub(crate) fn read_details(
     any.then_some(cache)
 }
 
+/// The touching collider pair of `a` and `b` with the smallest handles, *A*'s
+/// collider first (*A*: the node with the smaller slot, as in their edge): the pair an
+/// edge names when the one it named stopped while others still touch
+/// (`Edge::colliders`). `None` if none touches, or a node is gone. O(the contact
+/// pairs of the colliders of the node with fewer colliders × the other's collider
+/// count).
+pub(crate) fn smallest_touching_pair(
+    graph: &ContactGraph,
+    view: &WorldView,
+    a: NodeId,
+    b: NodeId,
+) -> Option<[ColliderHandle; 2]> {
+    let (first, second) = if a.index() <= b.index() {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    let (first_colliders, second_colliders) = (
+        NodeColliders::of(graph, view, first)?,
+        NodeColliders::of(graph, view, second)?,
+    );
+    let (first_colliders, second_colliders) =
+        (first_colliders.as_slice(), second_colliders.as_slice());
+    let walk_first = first_colliders.len() <= second_colliders.len();
+    let (walked, others) = if walk_first {
+        (first_colliders, second_colliders)
+    } else {
+        (second_colliders, first_colliders)
+    };
+    let key = |p: [ColliderHandle; 2]| (p[0].into_raw_parts(), p[1].into_raw_parts());
+    let mut best: Option<[ColliderHandle; 2]> = None;
+    for &c in walked {
+        for pair in view.narrow_phase.contact_pairs_with(c) {
+            let other = super::pairs::other_collider(pair, c);
+            if !others.contains(&other) || !pair.has_any_active_contact() {
+                continue;
+            }
+            let named = if walk_first { [c, other] } else { [other, c] };
+            if best.is_none_or(|b| key(named) < key(b)) {
+                best = Some(named);
+            }
+        }
+    }
+    best
+}
+
 /// The colliders a node stands for: its body's, or its own as static geometry.
 enum NodeColliders<'a> {
     Body(&'a [ColliderHandle]),

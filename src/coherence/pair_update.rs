@@ -163,6 +163,7 @@ impl Coherence {
             };
             let Some(e) = graph.edge_mut(eid) else { return };
             pairs::begin_edge_update(&mut e.cache, pa.as_ref(), pb.as_ref(), details);
+            e.begin_naming(false);
             e.walk_stamp = step;
             e.updated_step = step;
             self.touched.push(eid);
@@ -170,6 +171,13 @@ impl Coherence {
         }
         if let Some(e) = graph.edge_mut(eid) {
             pairs::accumulate_pair(&mut e.cache, pair, flip, details);
+            // The pair the edge's events name (see `Edge::colliders`), *A*'s first.
+            let named = if flip {
+                [pair.collider2, pair.collider1]
+            } else {
+                [pair.collider1, pair.collider2]
+            };
+            e.meet_pair(named, pair.has_any_active_contact());
         }
     }
 

@@ -128,13 +128,17 @@ impl Coherence {
     }
 
     /// Takes the addresses of the triggers' shapes from `colliders` (after a restore:
-    /// an address means nothing in another process). O(triggers).
+    /// an address means nothing in another process), and forgets where the last world
+    /// stored its first body and collider (the world restored against may be a copy,
+    /// or from another process: the mark is taken again at the next update, and
+    /// queries compare nothing until then; see `Error::ForeignWorld`). O(triggers).
     #[cfg(feature = "serde")]
     pub(crate) fn rebind_trigger_shapes(
         &mut self,
         graph: &ContactGraph,
         colliders: &rapier3d::prelude::ColliderSet,
     ) {
+        *self.world_mark = None;
         for (n, st) in self.trigger_states.iter_mut() {
             if let Some(NodeSource::Sensor(c)) = graph.node(*n).map(|x| x.source()) {
                 if let Some(co) = colliders.get(c) {

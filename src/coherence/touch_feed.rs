@@ -311,9 +311,20 @@ impl Coherence {
                 } else {
                     c.collider_pairs.saturating_sub(1)
                 };
+                // The pair the edge's events name (`Edge::colliders`), *A*'s first.
+                let named = if e.a == n1 {
+                    [ev.c1, ev.c2]
+                } else {
+                    [ev.c2, ev.c1]
+                };
+                if ev.started {
+                    e.meet_pair(named, true);
+                } else {
+                    e.pair_stopped(named);
+                }
             }
         }
-        self.settle_touch_edges(graph, &changed);
+        self.settle_touch_edges(graph, view, &changed);
     }
 
     /// Reads the touching pairs of the given colliders (flagged late) or, with `all`,
@@ -330,6 +341,9 @@ impl Coherence {
     ) {
         let step = self.step;
         let mut counts: BTreeMap<EdgeId, u32> = BTreeMap::new();
+        // Per edge counted: the touching pair to name (`Edge::colliders`): the one
+        // named already if it touches, else the one with the smallest handles.
+        let mut names: BTreeMap<EdgeId, [ColliderHandle; 2]> = BTreeMap::new();
         // The collider pairs that sent `Started` this step; a touching pair counted
         // here without one may have begun before its colliders were flagged.
         let key = |a: ColliderHandle, b: ColliderHandle| {
@@ -365,6 +379,21 @@ impl Coherence {
             if pair.has_any_active_contact() {
                 if let Some(e) = pairs::physical_edge_for(graph, n1, n2, step) {
                     *counts.entry(e).or_insert(0) += 1;
+                    if let Some(edge) = graph.edge(e) {
+                        let named = if edge.a == n1 {
+                            [pair.collider1, pair.collider2]
+                        } else {
+                            [pair.collider2, pair.collider1]
+                        };
+                        names
+                            .entry(e)
+                            .and_modify(|n| {
+                                if edge.prefers_name(named, *n) {
+                                    *n = named;
+                                }
+                            })
+                            .or_insert(named);
+                    }
                 }
                 if !started.contains(&key(pair.collider1, pair.collider2)) {
                     pre_flag.extend([n1, n2]);
@@ -434,6 +463,7 @@ impl Coherence {
         let mut again = Vec::new();
         for eid in targets {
             let want = counts.get(&eid).copied().unwrap_or(0);
+            let name = names.get(&eid).copied();
             let Some(e) = graph.edge(eid) else { continue };
             // Kept only when already in touching tracking's terms: after proximity
             // tracking, an edge's contact count is of solver contacts, a proximate
@@ -446,6 +476,11 @@ impl Coherence {
                 && c.touching
                 && c.proximity
             {
+                if let (Some(n), Some(e)) = (name, graph.edge_mut(eid)) {
+                    if e.named != n {
+                        e.set_named(n);
+                    }
+                }
                 continue;
             }
             if e.walk_stamp == step {
@@ -458,6 +493,11 @@ impl Coherence {
         targets.retain(|e| graph.edge(*e).is_none_or(|e| !graph.is_frozen(e)));
             if let Some(e) = graph.edge_mut(eid) {
                 e.cache.collider_pairs = want;
+                // A touching edge names a pair read now; one left without keeps the
+                // pair named last.
+                if let Some(n) = name {
+                    e.set_named(n);
+                }
             }
         }
         // Bodies newly holding a pair that may have begun before the flag: their
@@ -479,7 +519,7 @@ impl Coherence {
         }
         let settled_twice = !again.is_empty();
         changed.append(&mut again);
-        self.settle_touch_edges(graph, &changed);
+        self.settle_touch_edges(graph, view, &changed);
         if settled_twice {
             // Those edges are in the touched list twice (keep the first), or were
             // touched by the events and removed here (the rescan found no touching
@@ -507,6 +547,7 @@ impl Coherence {
         let pairs = e.cache.collider_pairs;
         e.cache.begin_update(false);
         e.cache.collider_pairs = pairs;
+        e.begin_naming(true);
         e.walk_stamp = step;
         e.updated_step = step;
         changed.push(eid);
@@ -515,8 +556,16 @@ impl Coherence {
     /// Ends the step's update of the changed edges: touching (and proximity, which is
     /// the same here) from the count; an edge left with no touching pair is removed
     /// and reported with its `Vanished` marks; the others are this step's touched
-    /// edges. Both ends of an edge whose touching changed are regrouped.
-    fn settle_touch_edges(&mut self, graph: &mut ContactGraph, changed: &[EdgeId]) {
+    /// edges. Both ends of an edge whose touching changed are regrouped. An edge that
+    /// still touches while the pair it named stopped names the touching pair with the
+    /// smallest handles, read from Rapier (`Edge::colliders`: O(the pairs of the
+    /// colliders of the end with fewer colliders), only then).
+    fn settle_touch_edges(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        changed: &[EdgeId],
+    ) {
         for &eid in changed {
             let Some(e) = graph.edge_mut(eid) else {
                 continue;
@@ -527,6 +576,14 @@ impl Coherence {
             // No solver contact is read here: the count is of touching collider pairs.
             e.cache.contact_count = e.cache.collider_pairs;
             let was = e.cache.touching_old;
+            if e.naming_unsettled() {
+                let (a, b) = (e.a, e.b);
+                if let Some(n) = super::details::smallest_touching_pair(graph, view, a, b) {
+                    if let Some(e) = graph.edge_mut(eid) {
+                        e.set_named(n);
+                    }
+                }
+            }
             // A touch that began merges groups (the edge is touched); one that ended
             // leaves its group by the graph's record of the removal.
             if touching {

@@ -164,6 +164,7 @@ impl Coherence {
         }
         if e.walk_stamp != step {
             e.cache.begin_update(false);
+            e.begin_naming(false);
             e.walk_stamp = step;
             e.updated_step = step;
             self.touched.push(eid);
@@ -171,5 +172,12 @@ impl Coherence {
         }
         e.cache.proximity = true;
         e.cache.collider_pairs += 1;
+        // The pair the trigger's events name (`Edge::colliders`), *A*'s first.
+        let named = if e.a == t {
+            [sensor, body_collider]
+        } else {
+            [body_collider, sensor]
+        };
+        e.meet_pair(named, true);
     }
 }

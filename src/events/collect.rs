@@ -89,22 +89,41 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
     let step = m.step;
     let body = |n: NodeId| m.body(n);
     let is_trigger = |n: NodeId| m.kind(n) == Some(NodeKind::Sensor);
-    // `live`: the edge of an edge event when it is in the graph (the pair's only edge):
-    // its details are read from it, without looking the pair up (`StepMarks::contact`).
-    let mut push =
-        |kind: EventKind, a: NodeId, b: Option<NodeId>, tick: u64, live: Option<&Edge>| {
-            if wanted.contains(kind) {
-                let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
-                e.collider1 = m.collider(a);
-                e.collider2 = b.and_then(|b| m.collider(b));
-                if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) =
-                    (kind, b)
-                {
-                    (e.normal, e.impulse) = m.contact(a, b, live);
+    // `edge`: the edge of an edge event (in the graph, or a removed edge's record),
+    // which names its collider pair. `live`: that edge when it is in the graph (the
+    // pair's only edge): its details are read from it, without looking the pair up
+    // (`StepMarks::contact`).
+    let mut push = |kind: EventKind,
+                    a: NodeId,
+                    b: Option<NodeId>,
+                    tick: u64,
+                    edge: Option<&Edge>,
+                    live: Option<&Edge>| {
+        if wanted.contains(kind) {
+            let mut e = Event::plain(step, kind, a, b, body(a), b.and_then(body), tick);
+            // The collider pair the edge names, oriented as the event's nodes (the
+            // edge's is *A* first; a sensor event's `node1` is the sensor, maybe *B*);
+            // without one (an edge restored from an older snapshot), the colliders
+            // the nodes stand for.
+            match edge.and_then(|x| Some((x.a(), x.colliders()?))) {
+                Some((ea, (c_a, c_b))) => {
+                    (e.collider1, e.collider2) = if ea == a {
+                        (Some(c_a), Some(c_b))
+                    } else {
+                        (Some(c_b), Some(c_a))
+                    };
                 }
-                out.push(e);
+                None => {
+                    e.collider1 = m.collider(a);
+                    e.collider2 = b.and_then(|b| m.collider(b));
+                }
             }
-        };
+            if let (EventKind::ContactStarted | EventKind::ContactPersisted, Some(b)) = (kind, b) {
+                (e.normal, e.impulse) = m.contact(a, b, live);
+            }
+            out.push(e);
+        }
+    };
     let awake = |n: NodeId| m.graph.node(n).is_some_and(|n| n.is_awake());
 
     // 1. Ends of edges removed with a node (or made passive, or left a trigger).
@@ -125,11 +144,11 @@ pub(crate) fn collect(m: &StepMarks, wanted: KindSet, out: &mut Vec<Event>) {
         } else {
             EventKind::FellAsleep
         };
-        push(kind, n, None, 0, None);
+        push(kind, n, None, 0, None, None);
     }
     // 4. Timers.
     for &(t, k) in m.ticks {
-        push(EventKind::TimerTick, t, None, k, None);
+        push(EventKind::TimerTick, t, None, k, None, None);
     }
 }
 
@@ -140,31 +159,32 @@ fn edge_events<'e>(
     step: u64,
     persist: bool,
     is_trigger: &dyn Fn(NodeId) -> bool,
-    push: &mut impl FnMut(EventKind, NodeId, Option<NodeId>, u64, Option<&'e Edge>),
+    push: &mut impl FnMut(EventKind, NodeId, Option<NodeId>, u64, Option<&'e Edge>, Option<&'e Edge>),
 ) {
     let (a, b) = (e.a(), Some(e.b()));
     let live = live.then_some(e);
+    let mut push = |kind, a, b, live| push(kind, a, b, 0, Some(e), live);
     match e.kind() {
         EdgeKind::Physical => {
             let p = e.proximity_mark(step);
             let t = e.touching_mark(step);
             if p == Some(Transition::New) {
-                push(EventKind::ProximityStarted, a, b, 0, live);
+                push(EventKind::ProximityStarted, a, b, live);
             }
             if t == Some(Transition::New) {
-                push(EventKind::ContactStarted, a, b, 0, live);
+                push(EventKind::ContactStarted, a, b, live);
             }
             if persist && p == Some(Transition::Persistent) {
-                push(EventKind::ProximityPersisted, a, b, 0, live);
+                push(EventKind::ProximityPersisted, a, b, live);
             }
             if persist && t == Some(Transition::Persistent) {
-                push(EventKind::ContactPersisted, a, b, 0, live);
+                push(EventKind::ContactPersisted, a, b, live);
             }
             if t == Some(Transition::Vanished) {
-                push(EventKind::ContactStopped, a, b, 0, live);
+                push(EventKind::ContactStopped, a, b, live);
             }
             if p == Some(Transition::Vanished) {
-                push(EventKind::ProximityStopped, a, b, 0, live);
+                push(EventKind::ProximityStopped, a, b, live);
             }
         }
         EdgeKind::Geometric => {
@@ -175,11 +195,9 @@ fn edge_events<'e>(
                 (e.b(), e.a())
             };
             match e.proximity_mark(step) {
-                Some(Transition::New) => {
-                    push(EventKind::SensorStarted, trigger, Some(body), 0, live)
-                }
+                Some(Transition::New) => push(EventKind::SensorStarted, trigger, Some(body), live),
                 Some(Transition::Vanished) => {
-                    push(EventKind::SensorStopped, trigger, Some(body), 0, live)
+                    push(EventKind::SensorStopped, trigger, Some(body), live)
                 }
                 _ => {}
             }

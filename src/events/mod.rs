@@ -9,7 +9,24 @@
 //! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
 //!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
 //!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
-//!   `collider1` / `collider2` name a pair's two colliders.
+//!   `collider1` / `collider2` name a pair's two colliders. Every contact, proximity
+//!   and sensor event names the collider pair Rapier reported (`collider1` of
+//!   `body1`, `collider2` of `body2`; for a sensor event the sensor and the collider
+//!   that entered or left it); two bodies touching through several collider pairs
+//!   are one pair of nodes, and their events name one collider pair, chosen as
+//!   [`Event::collider1`] says.
+//! - **Normals.** One convention everywhere: a normal points from the first thing
+//!   named to the second, as Rapier's contact manifold normal points from its
+//!   `collider1` to its `collider2`. An event's [`Event::normal`] points from `node1`
+//!   (`body1`, `collider1`) towards `node2`, which it pushes away; the graph's
+//!   [`ContactCache::normal`](crate::ContactCache::normal) (and `push`) from the
+//!   edge's *A* to its *B*, which are the events' `node1` and `node2`;
+//!   [`ContactLayer::contact_details(w, body, other)`](crate::ContactLayer::contact_details)
+//!   from `body` towards `other`. So for a ball resting on a box inserted before it
+//!   (`body1` the box), the event's normal is `(0, 1, 0)`, the edge's too,
+//!   `contact_details(w, box_body, ball)` answers `(0, 1, 0)` and
+//!   `contact_details(w, ball, box_body)` answers `(0, -1, 0)`: the same contact,
+//!   seen from either side (`tests/normal_convention.rs`).
 //! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
 //!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
 //!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
@@ -277,14 +294,27 @@ pub struct Event {
     /// The Rapier body of `node2`, if it is (or was) a body.
     #[cfg_attr(feature = "serde", serde(alias = "body_b"))]
     pub body2: Option<RigidBodyHandle>,
-    /// The collider `node1` stands for, if it stands for one, as Rapier's `collider1`:
-    /// a sensor collider (so a sensor event names the sensor that fired), or a
-    /// parentless collider. `None` for a body: a body pair aggregates all its
-    /// collider pairs (read them from Rapier's narrow phase with `contact_pair`).
+    /// `node1`'s collider in the collider pair the event is about, as Rapier's
+    /// `CollisionEvent` names it (`collider1` / `collider2`, reordered so that
+    /// `collider1` belongs to `node1`): for contact and proximity events a collider of
+    /// `body1` (or the parentless collider `node1` is), for sensor events the sensor
+    /// collider that fired. `None` for timer, sleep and monitor events.
+    ///
+    /// Two bodies touching through several collider pairs (compound bodies) are one
+    /// pair of nodes; their events name one of those collider pairs, the same under
+    /// either tracking and either pair walk: when the bodies start touching, the
+    /// touching pair with the smallest handles (`collider1`'s index and generation
+    /// first, then `collider2`'s); it stays named while it touches; if it stops while
+    /// others still touch, the smallest of those; when the bodies stop touching, the
+    /// pair named last (one of the last to stop). Proximity events name a pair in
+    /// proximity the same way (the touching one while the bodies touch), sensor events
+    /// the sensor and a collider of the body inside it. All of the pairs of two
+    /// bodies: Rapier's narrow phase (`contact_pair`, `contact_pairs_with`).
     #[cfg_attr(feature = "serde", serde(default, alias = "collider_a"))]
     pub collider1: Option<ColliderHandle>,
-    /// The collider `node2` stands for, as Rapier's `collider2`; see
-    /// [`Self::collider1`].
+    /// `node2`'s collider in the event's collider pair, as Rapier's `collider2`: a
+    /// collider of `body2` (or the parentless collider `node2` is), or for a sensor
+    /// event the collider that entered or left the sensor; see [`Self::collider1`].
     #[cfg_attr(feature = "serde", serde(default, alias = "collider_b"))]
     pub collider2: Option<ColliderHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
@@ -296,8 +326,10 @@ pub struct Event {
     /// `monitor::Violation::value`); 0 otherwise.
     pub value: Real,
     /// For [`EventKind::ContactStarted`] and [`EventKind::ContactPersisted`]: the
-    /// normal of the pair's deepest contact in the step, a unit vector pointing from
-    /// `node1` towards `node2` (`node2` is pushed along it); zero for other kinds, or
+    /// normal of the deepest contact of the two bodies in the step (over all their
+    /// collider pairs), a unit vector pointing from `node1` towards `node2` (`node2` is
+    /// pushed along it; the crate's one convention, module docs "Normals"); zero for
+    /// other kinds, or
     /// when Rapier had no contact point. Read from the edge's per-step details, or
     /// from Rapier's narrow phase when those are not kept (touching tracking, details
     /// off).
@@ -381,9 +413,12 @@ impl std::hash::Hash for Event {
 ///   leaves, its sleep, the monitor's reports on it, and the sensor events of
 ///   sensors it carries (a sensor event's `body1` is its carrier).
 /// - [`Self::with_colliders`]: events naming one of the colliders in
-///   [`Event::collider1`] or [`Event::collider2`]: a sensor's events, a
-///   parentless collider's touches. A body's own colliders are not named by its
-///   events (a body pair aggregates its collider pairs): filter by its body.
+///   [`Event::collider1`] or [`Event::collider2`]: a collider's contacts and
+///   proximity (as Rapier's collision events name them), a sensor's events, the
+///   sensor events of a collider entering or leaving a sensor. Two bodies touching
+///   through several collider pairs send one event per change, naming one pair (see
+///   [`Event::collider1`]): to follow every contact of a compound body, filter by its
+///   body.
 /// - [`Self::with_nodes`]: events whose `node1` or `node2` is one of the nodes, or a member
 ///   of one of them (a container node matches the events of its bodies); for what has
 ///   no Rapier handle (rules, timers, containers).

@@ -4,6 +4,16 @@
 //! node with the smaller slot index. A physical edge aggregates every collider pair of
 //! its two bodies: two bodies with three colliders each are one edge, not nine.
 //!
+//! A physical or geometric edge also names one of its collider pairs (the one its
+//! events name, [`Edge::colliders`]): when its bodies start touching, the touching pair
+//! with the smallest handles; the same pair while it keeps touching; when it stops
+//! while others still touch, the smallest of those; when the bodies stop touching,
+//! the pair named last (one of the last to stop). Without a touch (proximity only, or
+//! a trigger's overlap), a pair in proximity, kept likewise. The choice depends only on
+//! which pairs touch in each step, not on the order the analysis meets them, so
+//! proximity tracking and touching tracking, and the per-body walk and the full scan,
+//! name the same pair.
+//!
 //! The cache holds the state of the last update and of the update before (`e_old` in
 //! the paper), from which the coherence marks (new / persistent / vanished) are
 //! derived. Marks are only reported for edges refreshed in the current step: the pairs
@@ -11,6 +21,7 @@
 //! state stays exact), and a frozen pair has nothing new to say.
 
 use rapier3d::math::{Pose, Real, Vector};
+use rapier3d::prelude::ColliderHandle;
 
 use super::NodeId;
 
@@ -83,8 +94,9 @@ pub struct ContactCache {
     pub max_penetration: Real,
     /// The sum of the normal impulses the solver applied at the last step.
     pub normal_impulse: Real,
-    /// The contact normal of the deepest contact, pointing from *A* to *B*, in world
-    /// space (zero when there is no contact point).
+    /// The contact normal of the deepest contact, pointing from *A* to *B* (the
+    /// events' `node1` to `node2`: the crate's one convention, see the `events`
+    /// module's "Normals"), in world space (zero when there is no contact point).
     pub normal: Vector,
     /// The number of collider pairs aggregated in this edge.
     pub collider_pairs: u32,
@@ -190,6 +202,69 @@ pub struct Edge {
     /// edge's count by differences).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) group_counted: u32,
+    /// The collider pair the edge names, *A*'s collider first ([`Edge::colliders`]);
+    /// `no_pair()` before any.
+    #[cfg_attr(feature = "serde", serde(default = "no_pair"))]
+    pub(crate) named: [ColliderHandle; 2],
+    /// Scratch of the refresh in progress: how `named` is being chosen.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) naming: Naming,
+}
+
+/// Scratch of a refresh's choice of the pair an edge names: set at the start of each
+/// refresh, so left out of snapshots and of `Debug`.
+#[derive(Clone, Copy)]
+pub(crate) struct Naming {
+    /// The pair named before the refresh.
+    before: [ColliderHandle; 2],
+    /// The rank of the pair chosen so far (`RANK_*`).
+    rank: u8,
+    /// Touching tracking: the pair named before stopped touching, so the one to name is
+    /// read from Rapier if others still touch.
+    lost: bool,
+}
+
+impl Default for Naming {
+    fn default() -> Self {
+        Self {
+            before: no_pair(),
+            rank: RANK_NONE,
+            lost: false,
+        }
+    }
+}
+
+impl std::fmt::Debug for Naming {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Naming")
+    }
+}
+
+/// No collider pair named yet.
+pub(crate) fn no_pair() -> [ColliderHandle; 2] {
+    [ColliderHandle::invalid(), ColliderHandle::invalid()]
+}
+
+// The ranks of the pair chosen so far in a refresh: the highest wins, ties go to the
+// smaller handles. "Before": the pair named before the refresh.
+/// Before, but it was not on (touching, or overlapping for a trigger): any pair met
+/// replaces it.
+const RANK_NONE: u8 = 0;
+/// A pair met in proximity, not touching.
+const RANK_NEAR: u8 = 1;
+/// Before, met in proximity, not touching.
+const RANK_NEAR_KEPT: u8 = 2;
+/// Before, it touched and is not (yet) met touching: the last to stop, unless another
+/// pair touches.
+const RANK_STOPPED: u8 = 3;
+/// A pair met touching.
+const RANK_TOUCHING: u8 = 4;
+/// Before, it touched and still touches.
+const RANK_KEPT: u8 = 5;
+
+/// A pair's handles as numbers, for the tie-break.
+fn pair_key(p: [ColliderHandle; 2]) -> ((u32, u32), (u32, u32)) {
+    (p[0].into_raw_parts(), p[1].into_raw_parts())
 }
 
 /// `Edge::group_slot` of an edge in no group.
@@ -225,7 +300,102 @@ impl Edge {
             walk_stamp: 0,
             group_slot: NO_SLOT,
             group_counted: 0,
+            named: no_pair(),
+            naming: Naming::default(),
         }
+    }
+
+    /// The collider pair this edge names, *A*'s collider first: the pair its events
+    /// name ([`crate::Event::collider1`] / [`crate::Event::collider2`], oriented
+    /// there as the event's nodes). For a physical edge a pair of its two bodies'
+    /// colliders (or a static collider itself), for a geometric edge the sensor and
+    /// the body's collider inside it. Which pair, when the bodies meet through
+    /// several (see [`crate::Event::collider1`]): the touching pair with the smallest
+    /// handles when they start touching, kept while it touches, the smallest of those
+    /// still touching when it stops, the last to stop when they stop; without a touch,
+    /// a pair in proximity, kept likewise. The choice depends only on which pairs touch
+    /// in each step, so both trackings and both pair walks name the same pair. `None`
+    /// for structural and logical edges, and before an edge's first refresh. O(1).
+    #[inline]
+    pub fn colliders(&self) -> Option<(ColliderHandle, ColliderHandle)> {
+        (self.named != no_pair()).then_some((self.named[0], self.named[1]))
+    }
+
+    /// Whether the edge was on at its last refresh before this one (touching, or for
+    /// a trigger's edge overlapping): after the cache's `begin_update`.
+    fn was_on(&self) -> bool {
+        match self.kind {
+            EdgeKind::Geometric => self.cache.proximity_old,
+            _ => self.cache.touching_old,
+        }
+    }
+
+    /// Starts this refresh's choice of the pair to name, after the cache's
+    /// `begin_update`. `events`: touching tracking, where a pair that keeps touching
+    /// is not met (Rapier reports only its start and stop). O(1).
+    pub(crate) fn begin_naming(&mut self, events: bool) {
+        self.naming.before = self.named;
+        self.naming.lost = false;
+        self.naming.rank = if self.named == no_pair() || !self.was_on() {
+            RANK_NONE
+        } else if events {
+            RANK_KEPT
+        } else {
+            RANK_STOPPED
+        };
+    }
+
+    /// A collider pair of the edge met in this refresh (*A*'s collider first),
+    /// touching (`on`; for a trigger's edge, overlapping) or only in proximity.
+    /// O(1).
+    #[inline]
+    pub(crate) fn meet_pair(&mut self, pair: [ColliderHandle; 2], on: bool) {
+        let before = pair == self.naming.before;
+        let rank = match (on, before) {
+            (true, true) if self.was_on() => RANK_KEPT,
+            (true, _) => RANK_TOUCHING,
+            (false, true) => RANK_NEAR_KEPT,
+            (false, false) => RANK_NEAR,
+        };
+        if rank > self.naming.rank
+            || (rank == self.naming.rank && pair_key(pair) < pair_key(self.named))
+        {
+            self.named = pair;
+            self.naming.rank = rank;
+        }
+    }
+
+    /// A collider pair of the edge stopped touching (touching tracking): if it is the
+    /// named one, it stays named unless another pair touches at the end of the
+    /// refresh ([`Self::naming_unsettled`]). O(1).
+    pub(crate) fn pair_stopped(&mut self, pair: [ColliderHandle; 2]) {
+        if pair == self.named && self.naming.rank >= RANK_TOUCHING {
+            self.naming.rank = RANK_STOPPED;
+            self.naming.lost = true;
+        }
+    }
+
+    /// Whether the edge touches after this refresh but its named pair may not
+    /// (touching tracking): it stopped, or none was named; the caller names the
+    /// touching pair with the smallest handles, read from Rapier
+    /// ([`Self::set_named`]). O(1).
+    pub(crate) fn naming_unsettled(&self) -> bool {
+        self.cache.touching && (self.naming.lost || self.naming.rank < RANK_TOUCHING)
+    }
+
+    /// Whether `x` is a better pair to name than `y`, both touching now, when the
+    /// touching pairs are read from Rapier (a rescan): the pair named already, else
+    /// the smaller handles. O(1).
+    pub(crate) fn prefers_name(&self, x: [ColliderHandle; 2], y: [ColliderHandle; 2]) -> bool {
+        let (kx, ky) = (x == self.named, y == self.named);
+        kx > ky || (kx == ky && pair_key(x) < pair_key(y))
+    }
+
+    /// Names `pair` (*A*'s collider first), a pair that touches now. O(1).
+    pub(crate) fn set_named(&mut self, pair: [ColliderHandle; 2]) {
+        self.named = pair;
+        self.naming.rank = RANK_TOUCHING;
+        self.naming.lost = false;
     }
 
     /// The node with the smaller slot index (the paper's *A*).

@@ -207,14 +207,23 @@ pub struct Node {
 /// changes (the body's collider list and a collider's shape are allocations of their
 /// own), so that a set of another world, whose objects have the same handles, is told
 /// from the analysed one (`Error::ForeignWorld`). Derived from the world like a lookup
-/// cache: left out of snapshots and of `Debug`, zero when unknown.
-#[derive(Clone, Copy, Default)]
+/// cache: left out of snapshots and of `Debug`, and not carried to a copy of the graph
+/// (a snapshot's state may be restored against another copy of the world); zero when
+/// unknown, until the layer reads the object again.
+#[derive(Default)]
 pub(crate) struct Storage {
     /// A body's collider list: its address and length (0 without colliders).
     pub(crate) list: (usize, usize),
     /// One collider the node stands for (a body's first, a static collider, a
     /// sensor) and the address of its shape (0 when none).
     pub(crate) shape: (Option<rapier3d::prelude::ColliderHandle>, usize),
+}
+
+/// A copy knows nothing (see the type's docs).
+impl Clone for Storage {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 impl std::fmt::Debug for Storage {
