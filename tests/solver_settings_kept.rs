@@ -1,5 +1,7 @@
-//! The speed-ups keep the user's solver iterations unless asked to set their own, and
-//! `detach` gives back what the user last set.
+//! The speed-ups keep the user's solver settings unless changing one is the speed-up
+//! asked for: iterations (unless `iterations` or `tweak` says otherwise), warm start
+//! and contact recycling (unless `cache` is off); and `detach` gives back what the
+//! user last set, per-body sleep thresholds and damping included.
 
 mod common;
 
@@ -68,4 +70,80 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
     assert_eq!(iterations(&world), 8, "the user's again");
     layer.detach(WorldMut::from(&mut world));
     assert_eq!(iterations(&world), 8);
+}
+
+/// Runs `preset` for `steps` steps with `validate()` after each.
+fn run(world: &mut PhysicsWorld, layer: &mut ContactLayer, steps: usize) {
+    for _ in 0..steps {
+        layer.step(world);
+        layer.validate(world).unwrap();
+    }
+}
+
+#[test]
+fn presets_with_cache_keep_the_users_warm_start_and_recycling() {
+    for preset in [
+        SpeedUps::default(),
+        SpeedUps::reliable_sleep(),
+        SpeedUps::papers_fastest(),
+    ] {
+        let mut world = world_with_iterations(4);
+        world.integration_parameters.warmstart_coefficient = 0.5;
+        world.integration_parameters.contact_recycling = false;
+        let mut layer = ContactLayer::new();
+        layer.set_speedups(Some(preset.clone())).unwrap();
+        run(&mut world, &mut layer, 30);
+        let p = &world.integration_parameters;
+        assert_eq!(
+            (p.warmstart_coefficient, p.contact_recycling),
+            (0.5, false),
+            "{}",
+            preset.label()
+        );
+        // Changed by the user while the preset runs: the user's again.
+        world.integration_parameters.warmstart_coefficient = 0.8;
+        world.integration_parameters.contact_recycling = true;
+        run(&mut world, &mut layer, 5);
+        layer.detach(WorldMut::from(&mut world));
+        let p = &world.integration_parameters;
+        assert_eq!(
+            (p.warmstart_coefficient, p.contact_recycling),
+            (0.8, true),
+            "{} after detach",
+            preset.label()
+        );
+    }
+}
+
+#[test]
+fn detach_gives_back_the_users_sleep_thresholds_and_damping() {
+    let mut world = world_with_iterations(4);
+    let h = world.bodies.iter().find(|(_, b)| b.is_dynamic()).unwrap().0;
+    {
+        let rb = &mut world.bodies[h];
+        let a = rb.activation_mut();
+        a.normalized_linear_threshold = 0.3;
+        a.angular_threshold = 0.7;
+        a.time_until_sleep = 5.0;
+        rb.set_linear_damping(0.25);
+    }
+    let mut layer = ContactLayer::new();
+    // The paper's fastest preset owns sleeping (thresholds) and damps every body.
+    layer
+        .set_speedups(Some(SpeedUps::papers_fastest()))
+        .unwrap();
+    run(&mut world, &mut layer, 40);
+    assert_ne!(world.bodies[h].activation().time_until_sleep, 5.0);
+    layer.detach(WorldMut::from(&mut world));
+    let rb = &world.bodies[h];
+    let a = rb.activation();
+    assert_eq!(
+        (
+            a.normalized_linear_threshold,
+            a.angular_threshold,
+            a.time_until_sleep,
+            rb.linear_damping()
+        ),
+        (0.3, 0.7, 5.0, 0.25)
+    );
 }

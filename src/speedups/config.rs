@@ -9,6 +9,28 @@ use crate::{Error, Result};
 /// Units: energies per unit mass in J/kg (m²/s²), depths in metres, damping in 1/s,
 /// times in steps.
 ///
+/// # What the speed-ups change in your world
+/// Only what the switch asked for is the speed-up; each is given back at `detach`
+/// (or `set_speedups(None)`, at the next pre-step) as the user last set it:
+/// - `sleepy`: every dynamic body's sleep thresholds (the layer decides when it
+///   sleeps); given back when the body is released from the layer's sleep and at
+///   detach;
+/// - `iterations` / `tweak`: the solver's `num_solver_iterations` (`None` and no
+///   tweak: the user's own, followed when the user changes it);
+/// - `cache` off: Rapier's contact recycling and warm start off (on, the default:
+///   the user's own, followed when the user changes them);
+/// - `damp`: every dynamic body's linear damping;
+/// - `zero`, `reduce`: `ActiveHooks::MODIFY_SOLVER_CONTACTS` on the colliders
+///   concerned (that bit only);
+/// - `fixate`: a held body's type (fixed while held; dynamic again, with its
+///   velocities, when released, unless the user gave it another type meanwhile) and,
+///   for one step on its way out of Rapier's active set, its enabled flag.
+///
+/// The monitor in repair mode sets the solver to full strength while it repairs
+/// (twice the iterations, recycling and warm start on) and gives the user's back
+/// after. Tested in `tests/solver_settings_kept.rs` and
+/// `tests/detach_restores_the_world.rs`.
+///
 /// # Example
 /// ```
 /// use rapier_contact_graph::speedups::SpeedUps;

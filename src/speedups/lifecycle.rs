@@ -45,6 +45,7 @@ impl SpeedUpState {
             activations: BTreeMap::new(),
             user_params: None,
             iterations_written: None,
+            cache_written: None,
             stats: SpeedUpStats::default(),
             sleepy_changed: Vec::new(),
             detached: false,
@@ -102,6 +103,7 @@ impl SpeedUpState {
             }
         }
         self.iterations_written = None;
+        self.cache_written = None;
         if let Some((iterations, recycling, warmstart)) = self.user_params.take() {
             let p = &mut *world.integration_parameters;
             p.num_solver_iterations = iterations;

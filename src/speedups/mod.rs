@@ -165,6 +165,10 @@ pub struct SpeedUpState {
     /// means the user set their own since.
     #[cfg_attr(feature = "serde", serde(default))]
     iterations_written: Option<usize>,
+    /// The contact recycling and warm start the layer last wrote: a world whose
+    /// values differ was changed by the user since, and those are the user's own.
+    #[cfg_attr(feature = "serde", serde(default))]
+    cache_written: Option<(bool, f32)>,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,

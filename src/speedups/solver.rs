@@ -102,6 +102,16 @@ impl SpeedUpState {
             base
         };
         self.iterations_written = Some(params.num_solver_iterations);
+        // The user's own recycling and warm start: as recorded, or as the user set
+        // them since the layer last wrote them.
+        if let (Some(p), Some(written)) = (&mut self.user_params, self.cache_written) {
+            if written.0 != params.contact_recycling {
+                p.1 = params.contact_recycling;
+            }
+            if written.1.to_bits() != params.warmstart_coefficient.to_bits() {
+                p.2 = params.warmstart_coefficient;
+            }
+        }
         let cache = c.cache || !thin;
         // On: the user's own recycling and warm start (recorded above), or both fully
         // on for the monitor's repair; off: both off.
@@ -111,6 +121,7 @@ impl SpeedUpState {
         };
         params.contact_recycling = cache && recycling;
         params.warmstart_coefficient = if cache { warmstart } else { 0.0 };
+        self.cache_written = Some((params.contact_recycling, params.warmstart_coefficient));
         mods.reduce_depth = (c.reduce && thin).then_some(c.reduce_depth);
         mods.zero = c.zero;
     }
