@@ -12,9 +12,8 @@ use crate::{Error, Result};
 /// # What the speed-ups change in your world
 /// Only what the switch asked for is the speed-up; each is given back at `detach`
 /// (or `set_speedups(None)`, at the next pre-step) as the user last set it:
-/// - `sleepy`: every dynamic body's sleep thresholds (the layer decides when it
-///   sleeps); given back when the body is released from the layer's sleep and at
-///   detach;
+/// - any configuration: every dynamic body's sleep thresholds (the layer decides
+///   when bodies sleep; with `sleepy` off nothing sleeps);
 /// - `iterations` / `tweak`: the solver's `num_solver_iterations` (`None` and no
 ///   tweak: the user's own, followed when the user changes it);
 /// - `cache` off: Rapier's contact recycling and warm start off (on, the default:
