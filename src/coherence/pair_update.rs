@@ -185,6 +185,11 @@ impl Coherence {
     /// vanished (mark it), or vanished earlier (remove it if obsolete).
     pub(super) fn retire(&mut self, graph: &mut ContactGraph, view: &WorldView, eid: EdgeId) {
         let step = self.step;
+        // A held body's contact with what stands still has no Rapier pair: it stays
+        // as it was (`graph/frozen.rs`).
+        if graph.edge(eid).is_some_and(|e| graph.is_frozen(e)) {
+            return;
+        }
         let Some(e) = graph.edge_mut(eid) else { return };
         if e.walk_stamp == step {
             return;
@@ -193,11 +198,6 @@ impl Coherence {
         let was_proximate = e.cache.proximity;
         e.cache.begin_update(!self.skip_details);
         e.updated_step = step;
-        // A held body's contact with what stands still has no Rapier pair: it stays
-        // as it was (`graph/frozen.rs`).
-        if graph.edge(eid).is_some_and(|e| graph.is_frozen(e)) {
-            return;
-        }
         let (a, b, kind) = (e.a, e.b, e.kind);
         let passive = |n| graph.node(n).is_some_and(|n| n.passive);
         // Geometric edges live only while the body is inside the trigger, and a passive

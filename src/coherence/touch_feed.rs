@@ -453,6 +453,9 @@ impl Coherence {
                 .filter(|&e| graph.edge(e).is_some_and(|e| e.kind == EdgeKind::Physical))
                 .collect()
         };
+        // Frozen edges (a held body's contacts with what stands still) have no Rapier
+        // pair to count: they stay.
+        targets.retain(|e| graph.edge(*e).is_none_or(|e| !graph.is_frozen(e)));
         targets.extend(counts.keys().copied());
         targets.sort_unstable();
         targets.dedup();
@@ -488,9 +491,6 @@ impl Coherence {
             } else {
                 self.begin_touch_update(graph, eid, &mut changed);
             }
-        // Frozen edges (a held body's contacts with what stands still) have no Rapier
-        // pair to count: they stay.
-        targets.retain(|e| graph.edge(*e).is_none_or(|e| !graph.is_frozen(e)));
             if let Some(e) = graph.edge_mut(eid) {
                 e.cache.collider_pairs = want;
                 // A touching edge names a pair read now; one left without keeps the
