@@ -22,7 +22,7 @@ fn close(a: Vector, b: Vector) -> bool {
 /// the order decides which is `body1` in the events.
 fn ball_on_box(box_first: bool) -> (PhysicsWorld, RigidBodyHandle, RigidBodyHandle) {
     let mut world = PhysicsWorld::new();
-    let mut insert_box = |w: &mut PhysicsWorld| fixed_box_at(w, [0.0, 0.5, 0.0], 0.5).0;
+    let insert_box = |w: &mut PhysicsWorld| fixed_box_at(w, [0.0, 0.5, 0.0], 0.5).0;
     if box_first {
         let b = insert_box(&mut world);
         let ball = ball_at(&mut world, [0.0, 1.8, 0.0], 0.25).0;
