@@ -177,16 +177,24 @@
 //! - no held body is turned kinematic
 //!   (`bug_a_held_body_turned_kinematic_keeps_no_frozen_edge`), and no body a held one
 //!   rests on is made passive or disabled (`bug_a_body_made_passive_keeps_no_frozen_edge`);
-//! - no unseen step and no second-layer step while a kinematic body rests, but under
-//!   the proximity configuration (`bug_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`,
-//!   `bug_two_layers_taking_turns_with_a_kinematic_body_at_rest`), nor while the twin
-//!   is compared and colliders were inserted since the last step
-//!   (`bug_flags_added_after_an_unseen_step_change_no_trajectory`).
+//! - no unseen step and no second-layer step while a kinematic body rests (one
+//!   velocity-based at zero velocity, or position-based and not driven), but under
+//!   the proximity configuration
+//!   (`bug_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`,
+//!   `bug_two_layers_taking_turns_with_a_kinematic_body_at_rest`);
+//! - the twin gets the layer's own `COLLISION_EVENTS` writes, at the same time
+//!   (`bug_flags_added_after_an_unseen_step_change_no_trajectory`,
+//!   `bug_switching_to_proximity_tracking_changes_no_trajectory`: written to a
+//!   collider Rapier already stepped, they change trajectories);
+//! - the second layer gets a full sync when the first changed a sensor's collision
+//!   types since its last step (`bug_a_second_layer_sees_the_sensors_the_first_widened`).
 //!
-//! Also open there, and not steered: the twin gets the widened sensors' types
+//! Also open there, and met by the check itself (always, steered or not): the twin
+//! gets the sensors' collision types the layer widened, set as the layer sets them,
+//! so that it compares what the layer does beyond the widening
 //! (`bug_widened_sensor_keeps_a_kinematic_body_awake`,
-//! `bug_widening_a_sensor_rapier_stepped_changes_trajectories`: widening is not
-//! free of trajectory changes, as its docs say).
+//! `bug_widening_a_sensor_rapier_stepped_changes_trajectories`: contrary to its docs,
+//! widening changes Rapier's results).
 //!
 //! What the harness avoids besides, because Rapier itself panics or cannot do it:
 //! multibody links stay dynamic and get one parent (a rejected insertion corrupts

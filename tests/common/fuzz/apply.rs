@@ -141,7 +141,6 @@ impl Harness {
         let grew = self.world.bodies.len() > bodies || self.world.colliders.len() > colliders;
         let shrank = self.world.bodies.len() < bodies || self.world.colliders.len() < colliders;
         self.added |= grew;
-        self.fresh |= self.world.colliders.len() > colliders;
         self.removed |= shrank;
         if self.added && self.removed && (grew || shrank) {
             self.layer.request_full_sync();

@@ -16,6 +16,16 @@ use super::ops::{pick, raw, vel};
 use super::oracle::touching_agrees;
 use super::{Asked, Call, Config, Harness, Second, Who};
 
+/// Every sensor's collision types, in slot order.
+fn sensor_types(world: &PhysicsWorld) -> Vec<(ColliderHandle, ActiveCollisionTypes)> {
+    world
+        .colliders
+        .iter()
+        .filter(|(_, c)| c.is_sensor())
+        .map(|(h, c)| (h, c.active_collision_types()))
+        .collect()
+}
+
 impl Harness {
     /// The body a user's call goes to: parked, held or any, each falling back to the
     /// next when there is none.
@@ -166,20 +176,18 @@ impl Harness {
     /// `bug_two_layers_taking_turns_with_a_kinematic_body_at_rest` in
     /// `tests/fuzz_regressions_tracking.rs`). Not under the proximity configuration,
     /// where both layers read every pair.
-    ///
-    /// Nor, while the twin is compared, when colliders were inserted since the last
-    /// step: Rapier alone steps them without `COLLISION_EVENTS`, and the flag the
-    /// layer adds afterwards changes the trajectories
-    /// (`bug_flags_added_after_an_unseen_step_change_no_trajectory`).
     pub(super) fn unseen_avoided(&self) -> bool {
+        // A position-based kinematic body rests unless driven (the harness never
+        // sets its next position), whatever velocity Rapier left in it.
         let resting_kinematic = || {
             self.world.bodies.iter().any(|(_, rb)| {
-                rb.is_kinematic() && rb.linvel() == Vector::ZERO && rb.angvel() == Vector::ZERO
+                rb.body_type() == RigidBodyType::KinematicPositionBased
+                    || (rb.is_kinematic()
+                        && rb.linvel() == Vector::ZERO
+                        && rb.angvel() == Vector::ZERO)
             })
         };
-        self.steer
-            && ((self.config != Config::Proximity && resting_kinematic())
-                || (self.twin.is_some() && self.fresh))
+        self.steer && self.config != Config::Proximity && resting_kinematic()
     }
 
     /// One step of Rapier alone (`PhysicsWorld::step`): the layer does not see it.
@@ -189,7 +197,6 @@ impl Harness {
             return Ok(());
         }
         self.world.step();
-        self.fresh = false;
         self.counters.unseen_steps += 1;
         self.quarantined
             .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
@@ -237,8 +244,15 @@ impl Harness {
         let Some(l) = self.second.as_mut() else {
             return Ok(());
         };
+        // The first layer's widening changes sensors' collision types in place, which
+        // the second does not see (`bug_a_second_layer_sees_the_sensors_the_first_widened`):
+        // a full sync, as the docs ask after changing static geometry in place.
+        let types = sensor_types(&self.world);
+        if self.steer && types != self.second_types {
+            l.request_full_sync();
+        }
         l.step(&mut self.world);
-        self.fresh = false;
+        self.second_types = sensor_types(&self.world);
         let step = l.current_step();
         self.counters.second_steps += 1;
         self.quarantined

@@ -60,7 +60,7 @@ impl Harness {
         {
             self.log.passive = in_force.passive.clone();
         }
-        (self.added, self.removed, self.fresh) = (false, false, false);
+        (self.added, self.removed) = (false, false);
         self.pending.clear();
         self.counters.steps += 1;
         if self.layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching

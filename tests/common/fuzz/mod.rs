@@ -63,6 +63,8 @@ struct Sub {
 /// Counters over a run (for the report of the long run).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Counters {
+    /// Sequences run.
+    pub cases: u64,
     pub ops: u64,
     /// Steps analysed by the layer under test.
     pub steps: u64,
@@ -94,6 +96,7 @@ pub struct Counters {
 impl Counters {
     /// Adds a sequence's counters to a run's.
     pub fn add(&mut self, c: &Counters) {
+        self.cases += c.cases;
         self.ops += c.ops;
         self.steps += c.steps;
         self.events += c.events;
@@ -149,14 +152,14 @@ pub struct Harness {
     /// Bodies or colliders added / removed since the last step.
     added: bool,
     removed: bool,
-    /// Colliders inserted since the last step of Rapier, whoever made it.
-    fresh: bool,
     /// The plain Rapier world given the same world operations, stepped by Rapier
     /// alone, while the layer only observes (dropped at the first operation that
     /// lets the layer change motion: a rule, a passive body, the speed-ups).
     twin: Option<PhysicsWorld>,
-    /// The second layer on the same world, if attached.
+    /// The second layer on the same world, if attached, and the sensors' collision
+    /// types after its last step.
     second: Option<ContactLayer>,
+    second_types: Vec<(ColliderHandle, ActiveCollisionTypes)>,
     /// Whether the operations steer clear of the open bugs (each place names its
     /// regression test); off to replay a bug.
     pub steer: bool,
@@ -254,10 +257,10 @@ impl Harness {
             trace: false,
             added: false,
             removed: false,
-            fresh: false,
             quarantined: HashSet::new(),
             twin,
             second: None,
+            second_types: Vec::new(),
             steer: true,
             #[cfg(test)]
             log,
@@ -289,6 +292,7 @@ pub fn run_unsteered(config: Config, ops: &[Op], trace: bool) -> Result<Counters
 
 fn run_with(mut h: Harness, ops: &[Op], trace: bool) -> Result<Counters, String> {
     h.trace = trace;
+    h.counters.cases = 1;
     // The first step makes nodes of the arena.
     h.step().map_err(|e| format!("initial step: {e}"))?;
     for (i, op) in ops.iter().enumerate() {

@@ -157,12 +157,13 @@ pub fn property(config: Config) {
     });
     let t = *total.lock().unwrap();
     eprintln!(
-        "fuzz_operations {}: {cases} cases in {:.1?}: {} ops, {} steps, {} events, \
+        "fuzz_operations {}: {} sequences passed ({cases} asked; shrinking's included) in {:.1?}: {} ops, {} steps, {} events, \
          max {} nodes, event kinds seen {:#015b}, body-steps asleep {}, \
          passive changes refused {}, steps with touching tracking {}, touching pairs \
          checked {}, twin steps {}, body-steps held {} (parked {}), user calls {} \
          (on held bodies {}), unseen steps {}, second-layer steps {}",
         config.name(),
+        t.cases,
         start.elapsed(),
         t.ops,
         t.steps,
