@@ -16,7 +16,11 @@ impl Coherence {
     /// frozen from now on; a body given back has its touching pairs counted again
     /// under touching tracking (Rapier pairs it anew in this step and sends `Started`
     /// for contacts the graph kept). O(changes).
-    pub(crate) fn mark_held(&mut self, graph: &mut ContactGraph, changes: &[(RigidBodyHandle, bool)]) {
+    pub(crate) fn mark_held(
+        &mut self,
+        graph: &mut ContactGraph,
+        changes: &[(RigidBodyHandle, bool)],
+    ) {
         for &(h, released) in changes {
             let Some(id) = graph.node_of_body(h) else {
                 continue;

@@ -211,6 +211,10 @@ pub struct Coherence {
     /// from its first update on.
     #[cfg_attr(feature = "serde", serde(skip))]
     witness: Cache<unseen::StepWitness>,
+    /// Nodes the verification found changed in a way only a refresh reads (a body
+    /// disabled or enabled in place): refreshed in this step.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    recheck: Vec<NodeId>,
     /// Whether the pre-step found a Rapier step the layer did not see (reported in
     /// the next update's counters).
     #[cfg_attr(feature = "serde", serde(skip))]

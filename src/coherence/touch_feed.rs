@@ -294,9 +294,9 @@ impl Coherence {
                 // phase when it was held, not the graph (`graph/frozen.rs`).
                 match graph.edge_by_key(crate::graph::PairKey::of(n1, n2)) {
                     Some(e)
-                        if graph
-                            .edge(e)
-                            .is_some_and(|e| e.kind == EdgeKind::Physical && !graph.is_frozen(e)) =>
+                        if graph.edge(e).is_some_and(|e| {
+                            e.kind == EdgeKind::Physical && !graph.is_frozen(e)
+                        }) =>
                     {
                         e
                     }

@@ -33,18 +33,22 @@ pub(crate) struct StepWitness {
 }
 
 impl StepWitness {
-    /// Records the first [`SAMPLE`] bodies of Rapier's active set as they are after
-    /// the step just analysed. O(SAMPLE).
+    /// Records the first [`SAMPLE`] dynamic bodies of Rapier's active set as they are
+    /// after the step just analysed. O(SAMPLE + the kinematic and fixed bodies before
+    /// them in the active set).
     pub(crate) fn record(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
         self.sample.clear();
-        for h in islands.active_bodies().take(SAMPLE) {
-            if let Some(rb) = bodies.get(h) {
-                self.sample.push((
-                    h,
-                    pose_bits(rb.position()),
-                    rb.activation().time_since_can_sleep,
-                ));
-            }
+        // Dynamic bodies only: a kinematic body at rest (or driven by less than a
+        // pose's resolution) shows no step.
+        let dynamic = islands
+            .active_bodies()
+            .filter_map(|h| bodies.get(h).filter(|rb| rb.is_dynamic()).map(|rb| (h, rb)));
+        for (h, rb) in dynamic.take(SAMPLE) {
+            self.sample.push((
+                h,
+                pose_bits(rb.position()),
+                rb.activation().time_since_can_sleep,
+            ));
         }
         self.active = islands.num_active_bodies();
         self.recorded = true;

@@ -239,10 +239,17 @@ impl Coherence {
         }
         // Bodies that fell asleep, turned fixed or were disabled (awake at the last
         // update), the nodes the logic layer asks for (rule members of any kind, bodies
-        // made passive or active), and bodies whose colliders were added or removed (a
-        // fixed body losing its collider inside a trigger: nobody else would notice).
+        // made passive or active), bodies whose colliders were added or removed (a
+        // fixed body losing its collider inside a trigger: nobody else would notice),
+        // and those the verification found disabled or enabled in place.
         let prev = std::mem::take(&mut self.awake_prev);
-        for &id in prev.iter().chain(screen.force.iter()).chain(resized.iter()) {
+        let recheck = std::mem::take(&mut self.recheck);
+        for &id in prev
+            .iter()
+            .chain(screen.force.iter())
+            .chain(resized.iter())
+            .chain(recheck.iter())
+        {
             self.refresh_node(graph, groups, view, id);
         }
         // Owners of colliders changed in place (found by a refresh above, the
@@ -327,6 +334,15 @@ impl Coherence {
             // pairs are counted again.
             self.stale.extend_from_slice(&self.passive_changed);
             self.stale.extend_from_slice(resized);
+            // New nodes whose pairs may be older than the node: a collider a removed
+            // body left behind (static geometry now) touches what it touched, and
+            // Rapier sends no `Started` for it.
+            let created = self.created.iter().copied().filter(|&n| {
+                graph
+                    .node(n)
+                    .is_some_and(|n| matches!(n.source, NodeSource::StaticCollider(_)))
+            });
+            self.stale.extend(created);
             let late = std::mem::take(&mut self.touch_rescan);
             if full {
                 self.stale.clear();
@@ -336,9 +352,13 @@ impl Coherence {
             }
             self.counters.bodies = walk.len();
         } else if scan {
+            self.touch_rescan.clear();
             self.scan_all_pairs(graph, view, screen);
             self.counters.bodies = walk.len();
         } else {
+            // Proximity tracking reads the pairs itself: colliders flagged late need no
+            // rescan.
+            self.touch_rescan.clear();
             for &me in walk {
                 self.walk_pairs(graph, view, screen, me);
             }
@@ -519,6 +539,7 @@ impl Coherence {
             && self.awake_prev.is_empty()
             && screen.force.is_empty()
             && self.stale.is_empty()
+            && self.recheck.is_empty()
             && self.touch_rescan.is_empty()
             && self.created.is_empty()
             && self.removed_nodes.is_empty()

@@ -11,7 +11,8 @@ use super::*;
 impl Coherence {
     /// Checks a few nodes and Rapier body and collider slots per step, round robin: a
     /// node whose object is gone is removed, a body whose type changed in place gets
-    /// its kind, and a body without node gets one. It makes the graph consistent,
+    /// its kind, one disabled or enabled in place is refreshed, and a body without
+    /// node gets one. It makes the graph consistent,
     /// within `slots / verify_budget()` steps, after changes the per-step upkeep cannot
     /// see (removing and inserting bodies between two steps, retyping a sleeping body),
     /// without a full scan. O([`Self::verify_budget`]): the budget follows the awake
@@ -35,6 +36,11 @@ impl Coherence {
                 self.remove_node(graph, groups, id);
             } else if let NodeSource::Body(h) = source {
                 nodes::ensure_body_node(graph, view, h, &mut self.created);
+                // A body disabled or enabled again in place while nothing refreshed it
+                // (a sleeping or held body: Rapier tells nothing): read it again.
+                if self.passive_changed_unseen(graph, view, id, h) {
+                    self.recheck.push(id);
+                }
             }
         }
         // Rapier's arenas may hold free slots beyond `len()`: cover the highest slot the
@@ -77,5 +83,25 @@ impl Coherence {
                 }
             }
         }
+    }
+
+    /// Whether a body's enabled flag disagrees with its node's passive flag, the
+    /// bodies the speed-ups disable for one step on their way out of Rapier's active
+    /// set aside. O(log parking).
+    fn passive_changed_unseen(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+        id: crate::graph::NodeId,
+        h: rapier3d::prelude::RigidBodyHandle,
+    ) -> bool {
+        let (Some(node), Some(rb)) = (graph.node(id), view.bodies.get(h)) else {
+            return false;
+        };
+        let parking = self
+            .parking
+            .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
+            .is_ok();
+        node.passive != (!rb.is_enabled() && !parking)
     }
 }

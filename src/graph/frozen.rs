@@ -13,7 +13,8 @@ impl ContactGraph {
     /// Whether an edge is frozen: a touching physical edge of a held body whose other
     /// end stands still too (fixed, kinematic or held), so that Rapier computes no
     /// contact for it. A held body the user gave another type no longer stands still
-    /// (its kind follows Rapier's): its edges follow Rapier again. O(1).
+    /// (its kind follows Rapier's): its edges follow Rapier again; a passive end (a
+    /// body disabled in Rapier) has no edges at all. O(1).
     pub fn is_frozen(&self, e: &Edge) -> bool {
         let (Some(a), Some(b)) = (self.node(e.a), self.node(e.b)) else {
             return false;
@@ -23,6 +24,8 @@ impl ContactGraph {
             && (a.held || b.held)
             && a.kind.is_insulator()
             && b.kind.is_insulator()
+            && !a.passive
+            && !b.passive
     }
 
     /// Marks a body's node held (`true`) or given back (`false`) by the speed-ups.
@@ -30,6 +33,11 @@ impl ContactGraph {
     pub(crate) fn set_held(&mut self, n: NodeId, held: bool) {
         if let Some(node) = self.node_mut(n) {
             node.held = held;
+            // Given back: its edges that were frozen must be allowed by Table 2 again
+            // (a held body the user turned kinematic has none with the floor).
+            if !held {
+                self.kind_changed.push(n);
+            }
         }
     }
 }

@@ -36,9 +36,9 @@ pub(crate) use crate::util::arena::Arena;
 pub use crate::util::id::{EdgeId, NodeId, PairBuildHasher, PairHasher, PairKey};
 pub use edge::{ContactCache, Edge, EdgeKind, Transition};
 pub(crate) use edge::{LeftEdge, NO_SLOT};
+pub(crate) use node::Storage;
 pub use node::{Category, ContainerSource, Node, NodeKind, NodeSource};
 
-pub(crate) use node::Storage;
 use crate::{Error, Result};
 
 /// The contact graph of a scene.

@@ -144,13 +144,15 @@ impl ContactLayer {
             .and_then(|e| self.graph.edge(e))
             .filter(|e| self.graph.is_frozen(e))
             .map(|e| e.cache().clone());
-        frozen.or_else(|| read_details(&self.graph, view, n, m)).map(|mut c| {
-            if n.index() > m.index() {
-                c.normal = -c.normal;
-                c.push = -c.push;
-            }
-            c
-        })
+        frozen
+            .or_else(|| read_details(&self.graph, view, n, m))
+            .map(|mut c| {
+                if n.index() > m.index() {
+                    c.normal = -c.normal;
+                    c.push = -c.push;
+                }
+                c
+            })
     }
 
     /// The contact between `body` and `other` as Rapier's narrow phase holds it now:

@@ -49,9 +49,18 @@ impl ContactLayer {
     pub fn pre_step(&mut self, mut world: WorldMut) {
         self.coherence
             .check_unseen_step(world.bodies, world.islands);
-        let touching = self.touching_in_effect();
-        if touching || !self.coherence.touch_flagged().is_empty() {
-            self.coherence.sync_touch_flags(world.colliders, touching);
+        // The collision-event flags, once touching tracking was asked for, are kept
+        // while the layer's handler reaches Rapier's step, whatever the tracking in
+        // effect: a flag written to a collider Rapier has stepped counts as a change
+        // to Rapier and alters the order it handles pairs in, so flags are written
+        // before a collider's first step and not taken off when proximity tracking
+        // takes over (only when the handler no longer reaches the step, and at
+        // `detach`). A layer that only ever tracked proximity sets none.
+        let flagged = !self.coherence.touch_flagged().is_empty();
+        let wanted = self.coherence.requested_tracking() == crate::coherence::Tracking::Touching;
+        let keep = self.coherence.feed_connected() && (wanted || flagged);
+        if keep || flagged {
+            self.coherence.sync_touch_flags(world.colliders, keep);
         }
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
@@ -287,7 +296,9 @@ impl ContactLayer {
         // The monitor (reads the world; repairs are applied in the next pre-step).
         let mut violations = 0;
         if let Some(mut m) = self.monitor.take() {
-            let held = |h: RigidBodyHandle| self.holds(view.bodies, h);
+            // Held in place by the layer: the speed-ups' fixated bodies (a body asleep
+            // in Rapier is the monitor's own look).
+            let held = |h: RigidBodyHandle| self.fixates(h);
             let pushed = std::mem::take(&mut m.pushed);
             m.monitor.check_with_quarantine(
                 self.analysis_view(),

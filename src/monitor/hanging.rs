@@ -149,7 +149,7 @@ impl Hanging {
         let is_held = |h: RigidBodyHandle| {
             view.bodies
                 .get(h)
-                .is_some_and(|rb| (rb.is_enabled() && rb.is_sleeping()) || held(h))
+                .is_some_and(|rb| in_simulation(ctx, h, rb) && (rb.is_sleeping() || held(h)))
         };
         let near = &mut self.near;
         let mut add = |n: NodeId| {
@@ -231,7 +231,7 @@ impl Hanging {
         // caller turned fixed (the speed-ups' fixation) when the caller holds it.
         // (A held body the speed-ups disabled for one step to take it out of Rapier's
         // active set is still held.)
-        let is_held = (rb.is_enabled() || held(h))
+        let is_held = in_simulation(ctx, h, rb)
             && if simulated {
                 rb.is_sleeping() || held(h)
             } else {
@@ -313,4 +313,15 @@ impl Hanging {
             });
         }
     }
+}
+
+/// Whether a body takes part in the simulation: enabled, or disabled by the
+/// speed-ups for this one step on its way out of Rapier's active set (a body the user
+/// disabled, held or not, is out of it). O(parking).
+fn in_simulation(ctx: &Ctx, h: RigidBodyHandle, rb: &rapier3d::prelude::RigidBody) -> bool {
+    rb.is_enabled()
+        || ctx
+            .layer
+            .speedups()
+            .is_some_and(|s| s.parking().any(|p| p == h))
 }

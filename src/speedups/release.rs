@@ -246,10 +246,12 @@ impl SpeedUpState {
         self.queue_releases(out);
     }
 
-    /// The refreshed held bodies that are no longer fixed in Rapier: the user gave
-    /// them another type, and they are the user's again (the release keeps the type
-    /// and velocities the user set, see [`super::hold::Held::give_back`]), their
-    /// group with them. O(refreshed bodies · log held).
+    /// The refreshed held bodies that are no longer fixed in Rapier, or that the user
+    /// disabled (not the layer, on the way out of Rapier's active set): the user gave
+    /// them another type or took them out of the simulation, and they are the user's
+    /// again (the release keeps the type, velocities and enabled flag the user set,
+    /// see [`super::hold::Held::give_back`]), their group with them. O(refreshed
+    /// bodies · log held).
     fn taken_back(
         &self,
         graph: &ContactGraph,
@@ -259,7 +261,15 @@ impl SpeedUpState {
     ) {
         for &n in refreshed {
             let Some(h) = graph.body_of(n) else { continue };
-            if self.is_fixated(h) && view.bodies.get(h).is_some_and(|rb| !rb.is_fixed()) {
+            let Some(held) = self.held.get(&key(h)) else {
+                continue;
+            };
+            let parking = held.park == super::park::Park::Parking;
+            if view
+                .bodies
+                .get(h)
+                .is_some_and(|rb| !rb.is_fixed() || (!rb.is_enabled() && !parking))
+            {
                 seeds.push((h, f32::INFINITY));
             }
         }
