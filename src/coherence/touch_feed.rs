@@ -79,8 +79,10 @@ use super::*;
 /// The layer adds `ActiveEvents::COLLISION_EVENTS` to every collider that lacks it
 /// (all of them when the collider count changes, a few slots round robin otherwise:
 /// [`Coherence::verify_budget`]) and
-/// remembers which; it takes the flag off those again when touching tracking ends and
-/// when the layer is detached. A collider that it finds unflagged has its touching
+/// remembers which; it takes the flag off those again when the layer's handler no
+/// longer reaches Rapier's step and when the layer is detached, not when proximity
+/// tracking takes over (a flag written to a collider Rapier has stepped alters the
+/// order Rapier handles pairs in). A collider that it finds unflagged has its touching
 /// pairs read at once, so a collider inserted while another was removed loses no
 /// contact. The flag changes no trajectory bit (tested). A user's own `EventHandler`
 /// must then see only the events Rapier would have sent without the layer:

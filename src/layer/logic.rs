@@ -181,7 +181,10 @@ impl ContactLayer {
     /// again in the pre-step once both their bodies are active: Rapier 0.36 panics on an
     /// enabled joint between a disabled body and a fixed or disabled one, and its own
     /// `DisabledByAttachedBody` marks are undone whenever the other body is inserted or
-    /// enabled. A joint the user disabled stays disabled. O(1).
+    /// enabled. A joint the user disabled stays disabled. The guard runs in the
+    /// layer's pre-step: a Rapier step the layer does not see (the user's own
+    /// `world.step()`) has none, and a joint added to a passive body just before it
+    /// makes Rapier panic as it would without the layer. O(1).
     ///
     /// # Errors
     /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
@@ -330,7 +333,12 @@ impl ContactLayer {
     /// [`Self::event_handler_with`] still receives only the sensor events the user's
     /// own types give; one wired by hand around [`Self::event_handler`] must check
     /// [`Self::user_event_filter`] (no other composition is supported). Sensors never
-    /// push bodies, so no trajectory changes.
+    /// push bodies, but widening is not observe-only: a widened sensor pairs with the
+    /// kinematic bodies inside it, which keeps them awake where plain Rapier lets them
+    /// sleep, and widening a sensor Rapier has already stepped makes Rapier evaluate
+    /// its pairs again, which wakes the bodies it touches (so trajectories can part
+    /// from plain Rapier's). A second layer on the same world sees one layer's
+    /// widening as a sensor changed in place (call its `request_full_sync`).
     ///
     /// Widening happens in the pre-step before a sensor's first Rapier step. Rapier
     /// pairs colliders that do not move only when they appear, so a sensor that was
