@@ -168,8 +168,8 @@ fn markers_show_bodies_held_by_fixation() {
     };
     let (rec, stats) = render(style, &layer, &world);
     assert_eq!(
-        stats.touching, 1,
-        "ball–box (the held box no longer touches the ground)"
+        stats.touching, 2,
+        "ball–box, and the held box's contact with the ground (kept while held)"
     );
     let l = line_between(&rec.lines, com(&world, bx), com(&world, top));
     assert_eq!(l.obj, Obj::Body(top), "drawn for the dynamic end");
