@@ -10,8 +10,7 @@ use super::palette::{
     AXIS_LABEL_SIZE, FRAME, GRID_MAJOR, GRID_MINOR, INK, MIN_SIZE, MUTED, SMALL_SIZE, TICK_LEN,
     TICK_SIZE, TITLE_SIZE, TITLE_Y,
 };
-use super::place::Bounds;
-use super::Coords;
+use super::{Bounds, Coords};
 use crate::report::{text, ChartPoint, ChartSpec};
 
 /// Draws the title and the caption under it, centred on width `w`; returns the top of

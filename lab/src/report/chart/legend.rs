@@ -5,8 +5,8 @@ use plotters::prelude::*;
 
 use super::marker::Marker;
 use super::palette::{FRONT, INK, LEGEND_BORDER, SMALL_SIZE};
-use super::place::{Bounds, Obstacles};
-use super::Coords;
+use super::place::Obstacles;
+use super::{Bounds, Coords};
 use crate::report::{text, ChartPoint, PointKind};
 
 /// Width of the legend's symbol column, in pixels.

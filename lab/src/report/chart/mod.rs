@@ -40,6 +40,15 @@ pub(crate) use palette::VIOLATION;
 /// over the logs, see `axis.rs`).
 type Coords = Cartesian2d<Axis, Axis>;
 
+/// An axis-aligned box in pixels, for collision tests (its methods in `place.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Bounds {
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+}
+
 /// Draws the chart of `points` onto `root`, which must be `spec`'s size after
 /// clamping. Stops at the first error of the back end (none is expected: the SVG
 /// back end writes to a string, the bitmap one to memory); nothing here panics on

@@ -6,6 +6,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::palette::{INK, LABEL_SIZE, LEADER, MAX_LABEL_CHARS};
+use super::Bounds;
 use crate::report::{text, ChartPoint};
 
 /// A point that will be drawn, in pixels; `r` is the radius kept clear around it.
@@ -164,15 +165,7 @@ fn spot(
     best.map(|(_, b, level)| (b, level))
 }
 
-/// An axis-aligned box, for collision tests.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Bounds {
-    pub(super) x0: f64,
-    pub(super) y0: f64,
-    pub(super) x1: f64,
-    pub(super) y1: f64,
-}
-
+/// Boxes for collision tests.
 impl Bounds {
     pub(super) fn new(x: f64, y: f64, w: f64, h: f64) -> Bounds {
         Bounds {
