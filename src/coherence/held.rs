@@ -27,7 +27,10 @@ impl Coherence {
             };
             graph.set_held(id, !released);
             if released {
+                // Read again in this step: its kind (dynamic again, or what the user
+                // gave it), and under touching tracking its touching pairs.
                 self.stale.push(id);
+                self.recheck.push(id);
             }
         }
     }

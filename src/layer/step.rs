@@ -194,6 +194,11 @@ impl ContactLayer {
         }
         self.coherence
             .update(&mut self.graph, &mut self.groups, &view, &screen, touch);
+        // Under proximity tracking the flags (kept, see the pre-step) still bring
+        // Rapier's events: unused, they are not kept.
+        if self.coherence.tracking() != crate::coherence::Tracking::Touching {
+            touch_events.clear();
+        }
         self.touch_events = touch_events;
         if let Some(s) = &mut self.speedups {
             let changes = std::mem::take(&mut s.hold_changes);
