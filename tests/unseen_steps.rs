@@ -116,18 +116,23 @@ fn two_layers_taking_turns_on_one_world_each_stay_exact() {
     }
 }
 
+/// Proximity tracking reads the pairs of every body awake now or at the last
+/// analysis, but not those of a body the user woke and put back to sleep around a
+/// missed step: it reads the world once after a missed step too.
 #[test]
-fn proximity_tracking_needs_no_full_read_after_an_unseen_step() {
+fn proximity_tracking_reads_the_world_once_after_an_unseen_step() {
     let (mut world, _) = stack(10);
     let mut layer = ContactLayer::new();
     layer.set_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
+    let mut reported = 0;
     for step in 0..150 {
         if step % 7 == 6 {
             world.step();
             continue;
         }
         let stats = layer.step(&mut world);
-        assert!(!stats.walk.unseen_step, "step {step}");
+        reported += usize::from(stats.walk.unseen_step);
         agrees(&layer, &world, step);
     }
+    assert!(reported > 0);
 }

@@ -152,7 +152,7 @@ pub struct WalkCounters {
     pub edges: usize,
     /// Whether Rapier stepped since the last analysis without the layer (the user's
     /// own `world.step()`, or another layer's step) and this analysis therefore read
-    /// the world in full (touching tracking only; see
+    /// the world in full (see
     /// [`ContactLayer::pre_step`](crate::ContactLayer::pre_step)).
     #[cfg_attr(feature = "serde", serde(default))]
     pub unseen_step: bool,

@@ -14,7 +14,7 @@
 
 use rapier3d::prelude::{IslandManager, RigidBodyHandle, RigidBodySet};
 
-use super::{Coherence, Tracking};
+use super::Coherence;
 use crate::util::rapier::pose_bits;
 
 /// Awake bodies sampled at each analysis.
@@ -24,8 +24,8 @@ pub(crate) const SAMPLE: usize = 8;
 /// whether Rapier stepped in between.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct StepWitness {
-    /// Sampled bodies: handle, pose bits, sleep timer.
-    sample: Vec<(RigidBodyHandle, [u32; 7], f32)>,
+    /// Sampled bodies: handle, pose bits, velocity bits, sleep timer.
+    sample: Vec<(RigidBodyHandle, [u32; 7], [u32; 6], f32)>,
     /// Rapier's active-set size at the last analysis.
     active: usize,
     /// Whether an analysis recorded the witness (not after a restore).
@@ -47,6 +47,7 @@ impl StepWitness {
             self.sample.push((
                 h,
                 pose_bits(rb.position()),
+                vel_bits(rb),
                 rb.activation().time_since_can_sleep,
             ));
         }
@@ -55,8 +56,9 @@ impl StepWitness {
     }
 
     /// Whether Rapier stepped since [`Self::record`], as far as the sample tells: a
-    /// sampled body's sleep timer grew, or every sampled body still in the world
-    /// moved, or (none left) the active set changed size. A user who teleports every
+    /// sampled body's sleep timer grew, or every sampled body still in the world and
+    /// dynamic moved or changed velocity, or (none left) the active set changed
+    /// size. A user who teleports every
     /// sampled body, or removes them, between two steps makes it answer `true` too:
     /// the layer then reads the world once more than it needed. O(SAMPLE).
     pub(crate) fn stepped_since(&self, bodies: &RigidBodySet, islands: &IslandManager) -> bool {
@@ -65,13 +67,16 @@ impl StepWitness {
         }
         let mut live = 0;
         let mut moved = 0;
-        for &(h, pose, timer) in &self.sample {
-            let Some(rb) = bodies.get(h) else { continue };
+        for &(h, pose, vel, timer) in &self.sample {
+            // A body removed, or turned kinematic or fixed by the user, tells nothing.
+            let Some(rb) = bodies.get(h).filter(|rb| rb.is_dynamic()) else {
+                continue;
+            };
             live += 1;
             if rb.activation().time_since_can_sleep > timer {
                 return true;
             }
-            if pose_bits(rb.position()) != pose {
+            if pose_bits(rb.position()) != pose || vel_bits(rb) != vel {
                 moved += 1;
             }
         }
@@ -83,16 +88,21 @@ impl StepWitness {
     }
 }
 
+/// A body's velocities as bits. O(1).
+fn vel_bits(rb: &rapier3d::prelude::RigidBody) -> [u32; 6] {
+    let (l, a) = (rb.linvel(), rb.angvel());
+    [l.x, l.y, l.z, a.x, a.y, a.z].map(f32::to_bits)
+}
+
 impl Coherence {
     /// Called at the pre-step, before Rapier's step: if Rapier stepped since the last
-    /// analysis without the layer's event handler, and touching tracking was in
-    /// effect (it learns changes from the events alone), the next update reads the
-    /// world in full, as after [`Self::request_full_sync`]. Proximity tracking reads
-    /// the pairs of every body awake now or at the last update, which a missed step
-    /// cannot hide. O([`SAMPLE`]).
+    /// analysis without the layer's event handler, the next update reads the world in
+    /// full, as after [`Self::request_full_sync`]. Touching tracking learns changes
+    /// from the events alone; proximity tracking reads the pairs of every body awake
+    /// now or at the last update, but a body the user woke and put back to sleep
+    /// around the missed step was asleep at both. O([`SAMPLE`]).
     pub(crate) fn check_unseen_step(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
-        if self.tracking == Some(Tracking::Touching) && self.witness.stepped_since(bodies, islands)
-        {
+        if self.tracking.is_some() && self.witness.stepped_since(bodies, islands) {
             self.force_full_sync = true;
             self.unseen_step = true;
         }

@@ -42,8 +42,8 @@ impl ContactLayer {
     /// world has impulse joints, their multibody membership when it has multibodies).
     ///
     /// It also tells whether Rapier stepped since the last analysis without the
-    /// layer (the user's own `world.step()`, another layer's step): under touching
-    /// tracking the next analysis then reads the world in full once and reports
+    /// layer (the user's own `world.step()`, another layer's step): the next
+    /// analysis then reads the world in full once and reports
     /// `StepStats::walk.unseen_step` (`docs/ARCHITECTURE.md`, "Steps the layer did not
     /// see", lists the supported loops). O(1) for that look.
     pub fn pre_step(&mut self, mut world: WorldMut) {
