@@ -48,11 +48,13 @@ impl Harness {
     /// The layer guards the joints of the bodies it made passive only; a joint to
     /// such a body makes Rapier panic on its own.
     pub(super) fn rapier_disabled(&self, h: RigidBodyHandle) -> bool {
+        // (A request of the layer not applied yet does not count: it may be refused.)
         !self.world.bodies[h].is_enabled()
-            && !self
+            && !(self
                 .passive
                 .get(&raw(h))
                 .is_some_and(|a| a.disabled && a.by_layer)
+                && !self.pending.contains_key(&raw(h)))
     }
 
     /// Whether the speed-ups hold a body fixed: to its user, it is still dynamic.
@@ -60,55 +62,42 @@ impl Harness {
         self.layer.speedups().is_some_and(|s| s.is_fixated(h))
     }
 
-    /// Whether the monitor would misjudge a body in the state an operation leaves it
-    /// in (`asleep`, `disabled`, or as it is): asleep while fixed, or disabled while
-    /// asleep or held by the speed-ups. It takes such a body for a hanging sleeper
-    /// (`bug_a_fixed_body_put_to_sleep_is_no_hanging_sleeper`,
-    /// `bug_a_passive_body_put_to_sleep_is_no_hanging_sleeper`,
-    /// `bug_a_held_body_the_user_disabled_is_not_repaired` in
-    /// `tests/fuzz_regressions_tracking.rs`), so while the monitor is on the
-    /// operations that would leave a body so are left out ([`Self::misjudged_now`]),
-    /// and the monitor is not switched on while a body is so (`Op::Monitor`).
-    pub(super) fn misjudged(&self, h: RigidBodyHandle, asleep: bool, disabled: bool) -> bool {
-        let rb = &self.world.bodies[h];
-        let held = self.held(h);
-        let parking = self
-            .layer
-            .speedups()
-            .is_some_and(|s| s.parking().any(|p| p == h));
-        let disabled = disabled
-            || (!rb.is_enabled() && !parking)
-            || self.passive.get(&raw(h)).is_some_and(|a| a.disabled);
-        let asleep = asleep || rb.is_sleeping();
-        (rb.is_fixed() && !held && asleep) || (disabled && (asleep || held))
+    /// Whether a body the speed-ups hold was made passive: joined to a multibody, it
+    /// makes Rapier panic in the layer's step
+    /// (`bug_a_held_passive_body_joined_to_a_multibody_does_not_panic` in
+    /// `tests/fuzz_regressions_held.rs`), so it is not joined.
+    pub(super) fn held_passive(&self, h: RigidBodyHandle) -> bool {
+        self.steer
+            && self.held(h)
+            && self
+                .passive
+                .get(&raw(h))
+                .is_some_and(|a| a.disabled && a.by_layer)
     }
 
-    /// [`Self::misjudged`], while the monitor is on.
-    pub(super) fn misjudged_now(&self, h: RigidBodyHandle, asleep: bool, disabled: bool) -> bool {
-        self.steer && self.layer.monitor().is_some() && self.misjudged(h, asleep, disabled)
-    }
-
-    /// Whether a body touches a body the speed-ups hold, or is held itself: making
-    /// it passive, or disabling it, leaves the held bodies' frozen edges
-    /// (`bug_a_body_made_passive_keeps_no_frozen_edge`), so neither is done.
+    /// Whether a body touches a body the speed-ups hold (in the graph).
     pub(super) fn touches_held(&self, h: RigidBodyHandle) -> bool {
         let Some(s) = self.layer.speedups() else {
             return false;
         };
         let g = self.layer.graph();
-        s.is_fixated(h)
-            || self.layer.node_of_body(h).is_ok_and(|n| {
-                g.touching(n)
-                    .any(|m| g.body_of(m).is_some_and(|b| s.is_fixated(b)))
-            })
+        self.layer.node_of_body(h).is_ok_and(|n| {
+            g.touching(n)
+                .any(|m| g.body_of(m).is_some_and(|b| s.is_fixated(b)))
+        })
     }
 
-    /// Whether a type change is left out: a held body turned kinematic keeps its
-    /// frozen edge with what it rests on
-    /// (`bug_a_held_body_turned_kinematic_keeps_no_frozen_edge`).
+    /// Whether a type change is left out: a body held ones rest on, turned dynamic,
+    /// counts their contact twice
+    /// (`bug_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once` in
+    /// `tests/fuzz_regressions_held.rs`).
     pub(super) fn type_avoided(&self, h: RigidBodyHandle, ty: super::Ty) -> bool {
-        use super::Ty::{KinematicPosition, KinematicVelocity};
-        self.steer && matches!(ty, KinematicPosition | KinematicVelocity) && self.held(h)
+        let rb = &self.world.bodies[h];
+        self.steer
+            && ty == super::Ty::Dynamic
+            && !rb.is_dynamic()
+            && !self.held(h)
+            && self.touches_held(h)
     }
 
     /// A multibody link other than the root: Rapier asserts that such a body is
@@ -353,10 +342,7 @@ impl Harness {
                 // unchanged world while the bugs fixed with
                 // `fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies`
                 // were open).
-                if let Some(h) = self
-                    .body(i)
-                    .filter(|&h| !self.misjudged_now(h, true, false))
-                {
+                if let Some(h) = self.body(i) {
                     self.both(|w| w.bodies[h].sleep());
                 }
             }
@@ -394,8 +380,8 @@ impl Harness {
             Op::Multibody { a, b } => {
                 if let (Some(b1), Some(b2)) = (self.body(a), self.body(b)) {
                     // Rapier asserts that a multibody's non-root links are dynamic (a
-                    // body the speed-ups hold fixed is dynamic to its user: the layer
-                    // releases it, see
+                    // body the speed-ups hold fixed, and still fixed, is dynamic to its
+                    // user: the layer releases it, see
                     // `fixed_a_deferred_fixation_of_a_new_multibody_link_is_skipped`).
                     // A passive body may join: the layer makes it active again
                     // (`fixed_a_passive_body_joined_to_a_multibody_is_made_active_again`).
@@ -403,10 +389,13 @@ impl Harness {
                     // corrupts Rapier's bookkeeping: removing the root later panics
                     // in `MultibodyJointSet::remove` (upstream; not this crate's).
                     if b1 != b2
-                        && (self.world.bodies[b2].is_dynamic() || self.held(b2))
+                        && (self.world.bodies[b2].is_dynamic()
+                            || (self.held(b2) && self.world.bodies[b2].is_fixed()))
                         && self.world.multibody_joints.rigid_body_link(b2).is_none()
                         && !self.rapier_disabled(b1)
                         && !self.rapier_disabled(b2)
+                        && !self.held_passive(b1)
+                        && !self.held_passive(b2)
                     {
                         self.both(|w| {
                             let _ = w.insert_multibody_joint(

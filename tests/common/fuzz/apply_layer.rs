@@ -44,12 +44,11 @@ impl Harness {
                 // (`fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive`).
                 // No multibody member is made active: Rapier may have quarantined it
                 // (disabled), and re-enabling one panics in Rapier's step.
-                // Nor, under the monitor, a body it would misjudge (see
-                // `Harness::misjudged`).
+                // Nor is a held multibody member made passive: Rapier panics
+                // (`bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`).
                 let ok = |h: RigidBodyHandle| {
-                    (on || self.world.multibody_joints.rigid_body_link(h).is_none())
-                        && !(on && self.misjudged_now(h, false, true))
-                        && !(on && self.steer && self.touches_held(h))
+                    let member = self.world.multibody_joints.rigid_body_link(h).is_some();
+                    (on || !member) && !(on && self.steer && member && self.held(h))
                 };
                 if let Some(h) = self.body(i).filter(|&h| ok(h)) {
                     // A passive body changes motion: no twin from now on.
@@ -71,8 +70,8 @@ impl Harness {
                                 disabled: on,
                                 by_layer: true,
                             };
-                            self.passive.insert(raw(h), asked);
-                            self.pending.insert(raw(h));
+                            let before = self.passive.insert(raw(h), asked);
+                            self.pending.entry(raw(h)).or_insert(before);
                         }
                         Err(Error::Unsupported { .. }) if on && link => {
                             self.counters.refused += 1;
@@ -244,23 +243,14 @@ impl Harness {
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
             Op::Monitor(on) => {
-                // Not on while a body is in a state it misjudges (`misjudged`).
-                let misjudged = || {
-                    self.world
-                        .bodies
-                        .iter()
-                        .any(|(h, _)| self.misjudged(h, false, false))
-                };
                 let mode = if on {
                     MonitorMode::Repair
                 } else {
                     MonitorMode::Off
                 };
-                if !on || !misjudged() {
-                    self.layer
-                        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
-                        .map_err(|e| format!("set_monitor: {e}"))?;
-                }
+                self.layer
+                    .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+                    .map_err(|e| format!("set_monitor: {e}"))?;
             }
             Op::Preset => {
                 self.layer

@@ -16,16 +16,6 @@ use super::ops::{pick, raw, vel};
 use super::oracle::touching_agrees;
 use super::{Asked, Call, Config, Harness, Second, Who};
 
-/// Every sensor's collision types, in slot order.
-fn sensor_types(world: &PhysicsWorld) -> Vec<(ColliderHandle, ActiveCollisionTypes)> {
-    world
-        .colliders
-        .iter()
-        .filter(|(_, c)| c.is_sensor())
-        .map(|(h, c)| (h, c.active_collision_types()))
-        .collect()
-}
-
 impl Harness {
     /// The body a user's call goes to: parked, held or any, each falling back to the
     /// next when there is none.
@@ -50,9 +40,10 @@ impl Harness {
         }
     }
 
-    /// Whether the body is a multibody link or has an impulse joint to a disabled
-    /// body: Rapier panics on a disabled multibody link, and on a joint between two
-    /// disabled bodies (the layer guards only the bodies it made passive itself).
+    /// Whether the body is a multibody link or has an impulse joint to a body that is
+    /// not an enabled dynamic one: Rapier panics on a disabled multibody link, and in
+    /// its solver on a joint between a disabled body and one that is disabled, fixed
+    /// or kinematic (the layer guards only the bodies it made passive itself).
     fn jointed_to_disabled_or_link(&self, h: RigidBodyHandle) -> bool {
         self.world.multibody_joints.rigid_body_link(h).is_some()
             || self
@@ -64,7 +55,7 @@ impl Harness {
                     self.world
                         .bodies
                         .get(other)
-                        .is_some_and(|rb| !rb.is_enabled())
+                        .is_some_and(|rb| !rb.is_enabled() || !rb.is_dynamic())
                 })
     }
 
@@ -106,33 +97,42 @@ impl Harness {
                 }
             }
             Call::Enabled(on) => {
-                // Not disabled in its parking step: the layer enables it again
-                // (`bug_a_held_body_the_user_disables_while_parking_stays_disabled`);
-                // nor a body held ones rest on: their frozen edges stay
-                // (`bug_a_body_made_passive_keeps_no_frozen_edge`).
+                // Not disabled in its parking step: the layer enables it again, a
+                // documented limit
+                // (`limit_a_held_body_the_user_disables_while_parking_stays_disabled` in
+                // `tests/fuzz_regressions_held.rs`).
                 let parking = self
                     .layer
                     .speedups()
                     .is_some_and(|s| s.parking().any(|p| p == h));
+                // Nor, where the speed-ups may hold the other end, a jointed body:
+                // fixated, that end makes Rapier panic on the joint
+                // (`bug_a_body_jointed_to_a_disabled_one_is_not_held` in
+                // `tests/fuzz_regressions_held.rs`).
+                let jointed = self
+                    .world
+                    .impulse_joints
+                    .attached_joints(h)
+                    .next()
+                    .is_some();
+                let speedups = self.config.speedups().is_some() || self.layer.speedups().is_some();
                 if self.jointed_to_disabled_or_link(h)
-                    || (!on && self.steer && (parking || self.touches_held(h)))
-                    || (!on && self.misjudged_now(h, false, true))
+                    || (!on && self.steer && (parking || (jointed && speedups)))
                 {
                     return Ok(());
                 }
                 // The docs ask for a full sync after changing a sleeping, fixed or
-                // disabled body in place (Rapier wakes nothing for it). A held body
-                // (fixed to Rapier, dynamic to its user) gets one too, though its user
-                // may not know it is held: without it the layer keeps its node active
-                // (`bug_a_held_body_the_user_disables_is_passive_in_the_graph`).
-                let sync = self.needs_sync(h) && (self.steer || !self.held(h));
+                // disabled body in place (Rapier wakes nothing for it); not for a held
+                // body, which is dynamic to its user (the layer finds it:
+                // `fixed_a_held_body_the_user_disables_is_passive_in_the_graph`).
+                let sync = self.needs_sync(h) && !self.held(h);
                 self.both(|w| w.bodies[h].set_enabled(on));
                 if sync {
                     self.layer.request_full_sync();
                 }
                 // A `set_body_disabled` since the last step is applied after this
                 // call, at the next pre-step: it stays the last word.
-                if !self.pending.contains(&raw(h)) {
+                if !self.pending.contains_key(&raw(h)) {
                     let asked = Asked {
                         handle: h,
                         disabled: !on,
@@ -142,18 +142,10 @@ impl Harness {
                 }
             }
             Call::Sleep => {
-                if !self.misjudged_now(h, true, false) {
-                    self.both(|w| w.bodies[h].sleep());
-                }
+                self.both(|w| w.bodies[h].sleep());
             }
             Call::Wake => self.both(|w| w.bodies[h].wake_up(true)),
             Call::Remove { keep_colliders } => {
-                // Colliders kept by a removed body are static geometry now: a full
-                // sync, or under touching tracking their touching pairs are lost
-                // (`bug_a_collider_kept_by_a_removed_body_keeps_its_touching_pairs`).
-                if self.steer && keep_colliders && !self.world.bodies[h].colliders().is_empty() {
-                    self.layer.request_full_sync();
-                }
                 self.both(|w| {
                     w.bodies.remove(
                         h,
@@ -170,24 +162,53 @@ impl Harness {
         Ok(())
     }
 
-    /// Whether steps one layer does not see are left out now: while a kinematic body
-    /// rests in the world, a layer under touching tracking does not notice the steps
-    /// it missed (`bug_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`,
-    /// `bug_two_layers_taking_turns_with_a_kinematic_body_at_rest` in
-    /// `tests/fuzz_regressions_tracking.rs`). Not under the proximity configuration,
-    /// where both layers read every pair.
+    /// Whether steps one layer does not see are left out now (in
+    /// `tests/fuzz_regressions_unseen.rs` and `tests/fuzz_regressions_held.rs`):
+    /// - under the speed-ups' sleep, Rapier's sleep timers do not run, and the
+    ///   layer's witness misses a step when some sampled bodies rest
+    ///   (`bug_an_unseen_step_is_noticed_under_the_speedups`); not under the
+    ///   proximity configuration;
+    /// - while a joint the layer has not guarded yet has a disabled body, Rapier
+    ///   panics without the layer's pre-step, a documented limit
+    ///   (`limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`);
+    /// - while a held body is a multibody link, Rapier asserts without the layer's
+    ///   pre-step, which releases it
+    ///   (`bug_an_unseen_step_with_a_held_body_joined_to_a_multibody_does_not_panic`);
+    ///   and while a multibody holds a disabled body, the same without the pre-step
+    ///   that makes a passive body joined to a multibody active again
+    ///   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`).
     pub(super) fn unseen_avoided(&self) -> bool {
-        // A position-based kinematic body rests unless driven (the harness never
-        // sets its next position), whatever velocity Rapier left in it.
-        let resting_kinematic = || {
-            self.world.bodies.iter().any(|(_, rb)| {
-                rb.body_type() == RigidBodyType::KinematicPositionBased
-                    || (rb.is_kinematic()
-                        && rb.linvel() == Vector::ZERO
-                        && rb.angvel() == Vector::ZERO)
+        if !self.steer {
+            return false;
+        }
+        let fixed_link = || {
+            self.world.bodies.iter().any(|(h, rb)| {
+                !rb.is_dynamic()
+                    && self
+                        .world
+                        .multibody_joints
+                        .rigid_body_link(h)
+                        .is_some_and(|l| l.id != 0)
             })
         };
-        self.steer && self.config != Config::Proximity && resting_kinematic()
+        let disabled =
+            |h: RigidBodyHandle| self.world.bodies.get(h).is_some_and(|rb| !rb.is_enabled());
+        let unguarded_joint = || {
+            self.world.impulse_joints.iter().any(|(_, j)| {
+                j.data.enabled != JointEnabled::Disabled
+                    && (disabled(j.body1()) || disabled(j.body2()))
+            })
+        };
+        let disabled_member = || {
+            self.world.bodies.iter().any(|(h, rb)| {
+                !rb.is_enabled() && self.world.multibody_joints.rigid_body_link(h).is_some()
+            })
+        };
+        let layer_sleep = self.layer.speedups().is_some_and(|s| s.config().sleepy);
+        (self.config != Config::Proximity && layer_sleep)
+            || unguarded_joint()
+            || fixed_link()
+            || disabled_member()
     }
 
     /// One step of Rapier alone (`PhysicsWorld::step`): the layer does not see it.
@@ -244,15 +265,7 @@ impl Harness {
         let Some(l) = self.second.as_mut() else {
             return Ok(());
         };
-        // The first layer's widening changes sensors' collision types in place, which
-        // the second does not see (`bug_a_second_layer_sees_the_sensors_the_first_widened`):
-        // a full sync, as the docs ask after changing static geometry in place.
-        let types = sensor_types(&self.world);
-        if self.steer && types != self.second_types {
-            l.request_full_sync();
-        }
         l.step(&mut self.world);
-        self.second_types = sensor_types(&self.world);
         let step = l.current_step();
         self.counters.second_steps += 1;
         self.quarantined

@@ -43,16 +43,28 @@ impl Harness {
             if !matches!(e, Error::Unsupported { .. }) {
                 return Err(format!("refusal of {h:?} is not Unsupported: {e}"));
             }
-            self.passive.insert(
-                raw(h),
-                Asked {
-                    handle: h,
-                    disabled: false,
-                    by_layer: true,
-                },
-            );
+            // A request of this step refused: nothing changed, what was asked before
+            // stands, unless that was the layer's own passive, applied earlier: a
+            // passive body joined to a multibody is made active again (so is one
+            // refused with no request this step).
+            let undone = Asked {
+                handle: h,
+                disabled: false,
+                by_layer: true,
+            };
+            let now = match self.pending.get(&raw(h)) {
+                Some(Some(before)) if before.by_layer && before.disabled => Some(undone),
+                Some(&before) => before,
+                None => Some(undone),
+            };
+            match now {
+                Some(a) => self.passive.insert(raw(h), a),
+                None => self.passive.remove(&raw(h)),
+            };
             if let Ok(n) = self.layer.node_of_body(h) {
-                in_force.passive.remove(&n);
+                if !now.is_some_and(|a| a.disabled) {
+                    in_force.passive.remove(&n);
+                }
             }
             self.counters.refused += 1;
         }

@@ -24,7 +24,7 @@
 //! - `strategies`, `runner` (tests only): the proptest generator, and the runner that
 //!   minimises and reports a failure.
 
-use std::collections::{BTreeMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use crossbeam_channel::Receiver;
 use rapier_contact_graph::events::SubscriptionId;
@@ -140,10 +140,11 @@ pub struct Harness {
     composites: Vec<NodeId>,
     /// What was last asked of each body's enabled state (see [`Asked`]).
     passive: BTreeMap<(u32, u32), Asked>,
-    /// Bodies `set_body_disabled` was called on since the last step: the layer
-    /// applies the request at its next pre-step, after any call the user makes
-    /// meanwhile, so the layer's request is the last word.
-    pending: HashSet<(u32, u32)>,
+    /// Bodies `set_body_disabled` was called on since the last step, with what was
+    /// asked of them before: the layer applies the request at its next pre-step,
+    /// after any call the user makes meanwhile, so the layer's request is the last
+    /// word, unless the pre-step refuses it (then nothing changes).
+    pending: HashMap<(u32, u32), Option<Asked>>,
     pub counters: Counters,
     pub trace: bool,
     /// Bodies Rapier's quarantine disabled (non-finite state) at some step: they
@@ -156,10 +157,8 @@ pub struct Harness {
     /// alone, while the layer only observes (dropped at the first operation that
     /// lets the layer change motion: a rule, a passive body, the speed-ups).
     twin: Option<PhysicsWorld>,
-    /// The second layer on the same world, if attached, and the sensors' collision
-    /// types after its last step.
+    /// The second layer on the same world, if attached.
     second: Option<ContactLayer>,
-    second_types: Vec<(ColliderHandle, ActiveCollisionTypes)>,
     /// Whether the operations steer clear of the open bugs (each place names its
     /// regression test); off to replay a bug.
     pub steer: bool,
@@ -252,7 +251,7 @@ impl Harness {
             timers: Vec::new(),
             composites: Vec::new(),
             passive: BTreeMap::new(),
-            pending: HashSet::new(),
+            pending: HashMap::new(),
             counters: Counters::default(),
             trace: false,
             added: false,
@@ -260,7 +259,6 @@ impl Harness {
             quarantined: HashSet::new(),
             twin,
             second: None,
-            second_types: Vec::new(),
             steer: true,
             #[cfg(test)]
             log,

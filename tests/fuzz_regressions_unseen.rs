@@ -1,0 +1,460 @@
+//! Minimised regression tests of what `tests/fuzz_operations.rs` found about steps
+//! the layer did not see (Rapier's own `PhysicsWorld::step` between the layer's
+//! steps) and two layers taking turns on one world, under its configurations (the
+//! rest is in `tests/fuzz_regressions_tracking.rs` and
+//! `tests/fuzz_regressions_held.rs`). `bug_*` are ignored until fixed (each fails when
+//! run with `--ignored`), `fixed_*` were fixed meanwhile (each failed when found);
+//! `limit_*` are ignored too, and fail with `--ignored`: what they show is a
+//! documented limit (`docs/ARCHITECTURE.md`, "Steps the layer did not see"). The
+//! sequences replay with `harness::run_unsteered`.
+
+mod common;
+
+/// The fuzz harness (`tests/common/fuzz/`), for the tests that replay the arena.
+#[path = "common/fuzz/mod.rs"]
+#[allow(dead_code)]
+mod harness;
+
+use harness::{run_unsteered, Config, Op};
+
+/// A dynamic ball on the arena's grid.
+fn ball(x: i8, y: u8, z: i8, r: u8) -> Op {
+    Op::Ball { x, y, z, r }
+}
+
+/// Steps the layer did not see, in a world with a kinematic body at rest (here the
+/// floor, turned kinematic by the user), under touching tracking: after two steps of
+/// Rapier alone (`PhysicsWorld::step`) the layer's next step does not notice it missed
+/// any, and a touching pair the balls made meanwhile has no edge ("Rapier pair of
+/// nodes 7–8 has no edge"). With the floor turned dynamic or fixed instead, or under
+/// proximity tracking, it passes. The guess: the witness of "a few awake bodies" the
+/// layer compares at its pre-step picked the kinematic body, which a step does not
+/// change (velocity-based at zero velocity, or position-based and not driven: the
+/// long run met one of those, with a residual velocity of 4e-6 m/s, in a sequence
+/// of 14 operations ending `Step(2)`, `Unseen(1)`). Found by `speedups_contact_graph`;
+/// fails under `touching` alike.
+/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+#[test]
+fn fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest() {
+    use harness::{Call, Ty, Who};
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 3),
+        ball(0, 2, 0, 0),
+        ball(0, 0, 0, 0),
+        // The floor (no body is held: `Held` falls back to any body).
+        Op::User(Who::Held(25), Call::Type(Ty::KinematicVelocity)),
+        Op::Step(1),
+        Op::Multibody { a: 153, b: 2 },
+        Op::Unseen(2),
+    ];
+    run_unsteered(Config::Proximity, &ops, false).unwrap();
+    // Failed when found: "after step 3: validate() failed: graph invariant violated:
+    // Rapier pair of nodes 7–8 has no edge".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// As `fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`, with a fixed
+/// body in Rapier's active set instead of the kinematic one: a
+/// ball the user turned fixed and put to sleep (`RigidBody::sleep()`), which Rapier
+/// leaves in its active set, asleep, with a sleep timer that no step changes; the
+/// other sampled bodies had just been woken (a teleport) and move fast (their timers
+/// stay at 0). Found by the `touching` configuration's long run, shrunk.
+/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+#[test]
+fn fixed_an_unseen_step_is_noticed_with_a_fixed_body_in_the_active_set() {
+    use harness::Ty;
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 3),
+        Op::Step(1),
+        Op::RemoveBody(238),
+        // A ball turned fixed, then put to sleep.
+        Op::SetType(246, Ty::Fixed),
+        ball(0, 0, 0, 0),
+        Op::Sleep(227),
+        ball(0, 2, 0, 0),
+        Op::Step(1),
+        Op::Teleport {
+            body: 33,
+            x: 0,
+            y: 1,
+            z: 0,
+        },
+        Op::Unseen(1),
+    ];
+    // Failed when found: "after step 4: validate() failed: graph invariant violated:
+    // Rapier pair of nodes 10–11 has no edge".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// The witness of `fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`
+/// under the speed-ups, which own sleeping: Rapier's sleep timers do not run
+/// (the layer makes bodies sleep-eligible only when their group is sleepy), so the
+/// witness's "a sampled body's sleep timer grew" never holds, and an awake body at
+/// rest in the sample (here a ball, and a kinematic body the user turned dynamic,
+/// both at zero velocity) hides the step. Under `touching` (no speed-ups) the same
+/// sequence passes. Found by `speedups_papers_fastest`'s long run, shrunk; also seen
+/// with two layers taking turns under `speedups_contact_graph`.
+/// Still failing after 3d1c5a1 (velocities beside poses in the witness): one
+/// sampled ball falls, the other two rest exactly, and the witness asks every
+/// sampled body to have moved; the documented limit (`docs/ARCHITECTURE.md`, "What
+/// the witness cannot see") names only a sample that rests entirely.
+#[test]
+#[ignore = "bug: under the speed-ups, a step the layer did not see goes unnoticed when some sampled bodies rest"]
+fn bug_an_unseen_step_is_noticed_under_the_speedups() {
+    use harness::{Preset, Ty};
+    let ops = [
+        Op::RemoveBody(0),
+        ball(0, 0, 0, 0),
+        Op::Kinematic {
+            x: 0,
+            y: 1,
+            z: 0,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        // The kinematic body.
+        Op::SetType(223, Ty::Dynamic),
+        ball(0, 0, 2, 0),
+        Op::RemoveCollider(0),
+        Op::Kinematic {
+            x: 0,
+            y: 0,
+            z: 0,
+            vx: 0,
+            vz: 1,
+            velocity_based: true,
+        },
+        Op::Joint {
+            a: 9,
+            b: 36,
+            revolute: false,
+        },
+        Op::Step(1),
+        Op::Unseen(1),
+    ];
+    run_unsteered(Config::Touching, &ops, false).unwrap();
+    // Failed when found: "after step 3: validate() failed: graph invariant violated:
+    // Rapier pair of nodes 7–9 has no edge".
+    run_unsteered(Config::SpeedUps(Preset::PapersFastest), &ops, true).unwrap();
+}
+
+/// A joint added to a body the layer made passive (disabled in Rapier), then a step
+/// of Rapier the layer does not see: Rapier panics in its solver ("internal error:
+/// entered unreachable code", `interaction_groups.rs:153`), as plain Rapier does on a
+/// joint between a disabled and a fixed body. `set_body_disabled` guards such joints
+/// (disables them while the body is passive) in the layer's pre-step, which this step
+/// does not have; the same step through the layer passes. Now that a user's own
+/// `world.step()` between the layer's steps is a supported loop, the guard, or the
+/// docs of `set_body_disabled`, should say so. Found by the `proximity` configuration's
+/// long run, shrunk.
+/// Documented since e9d1bfa: the passive bodies' joint guard runs in the layer's pre-step
+/// (`set_body_disabled`'s docs); kept to show it (fails with `--ignored`).
+#[test]
+#[ignore = "documented: a new joint to a passive body panics Rapier in a step the layer did not see"]
+fn limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic() {
+    let ops = [
+        ball(0, 0, 0, 0),
+        Op::Kinematic {
+            x: 0,
+            y: 0,
+            z: 0,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        Op::Step(1),
+        // The ball.
+        Op::Passive(199, true),
+        ball(0, 0, 0, 0),
+        Op::RemoveBody(38),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::Step(1),
+        // The floor and the passive ball.
+        Op::Joint {
+            a: 75,
+            b: 131,
+            revolute: false,
+        },
+        Op::Unseen(1),
+    ];
+    // Failed when found: a panic in Rapier's step.
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+}
+
+/// Under proximity tracking a step the layer did not see is not looked for (the full
+/// read after one is touching tracking's): a box asleep at the layer's last
+/// analysis is teleported by the user (which wakes it), moved off its contacts by a
+/// step of Rapier alone, and put back to sleep by the user before the layer's next
+/// step. Asleep at both analyses, it is not read again, and its touching edge stays
+/// ("edge e1v0 touching = true, Rapier says false"). With the step seen, or without the
+/// teleport or the sleep, or under touching tracking, it passes. Found by the
+/// `proximity` configuration's long run, shrunk.
+/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+#[test]
+fn fixed_a_body_asleep_on_both_sides_of_an_unseen_step_is_read_again() {
+    let ops = [
+        ball(0, 0, 0, 0),
+        Op::Cube {
+            x: 0,
+            y: 0,
+            z: 2,
+            r: 2,
+        },
+        ball(0, 6, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::Step(5),
+        Op::Step(23),
+        ball(0, 0, 0, 0),
+        Op::Step(1),
+        Op::Step(3),
+        Op::Step(5),
+        // The box, asleep.
+        Op::Teleport {
+            body: 92,
+            x: -2,
+            y: 0,
+            z: 0,
+        },
+        Op::Unseen(1),
+        Op::Sleep(20),
+    ];
+    // Failed when found: "after step 39: validate() failed: graph invariant violated:
+    // edge e1v0 touching = true, Rapier says false".
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+}
+
+/// The same as `limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`
+/// for a multibody: a passive body (the floor, turned dynamic) joined to a multibody,
+/// then a step of Rapier the layer does not see: Rapier panics in the multibody's
+/// solve ("LU solve matrix dimension mismatch", nalgebra's `lu.rs:247`). The layer's
+/// pre-step makes such a body active again
+/// (`fixed_a_passive_body_joined_to_a_multibody_is_made_active_again`), and this step
+/// has none. Found by the `touching` configuration's long run, shrunk.
+/// Documented since e9d1bfa: the passive bodies' guard runs in the layer's pre-step
+/// (`set_body_disabled`'s docs name the joints; the multibodies are alike); kept to
+/// show it (fails with `--ignored`).
+#[test]
+#[ignore = "documented: a passive body joined to a multibody panics Rapier in a step the layer did not see"]
+fn limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic() {
+    use harness::{Call, Ty, Who};
+    let ops = [
+        ball(0, 0, 0, 0),
+        Op::SetType(48, Ty::Dynamic),
+        Op::Passive(8, true),
+        Op::Step(1),
+        ball(0, 0, 0, 0),
+        Op::Sleep(8),
+        ball(0, 0, 0, 0),
+        Op::User(
+            Who::Held(0),
+            Call::Remove {
+                keep_colliders: false,
+            },
+        ),
+        Op::Multibody { a: 81, b: 28 },
+        Op::Unseen(1),
+    ];
+    // Failed when found: a panic in Rapier's step.
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// The witness the layer keeps of a few awake dynamic bodies, to notice a step it did
+/// not see, is fooled when the user turns a sampled body kinematic between the
+/// layer's steps: a kinematic body at rest neither moves nor ages, and the other
+/// sampled bodies were pushed (a ball inserted into them: their sleep timers start
+/// again), so the second layer's step goes unnoticed by the first ("Rapier pair of
+/// nodes 9–10 has no edge" at the first layer's next step). Turned fixed or dynamic
+/// instead, or with a full sync, it passes; with a step of Rapier alone instead of the
+/// second layer's, it fails alike ("edge e0v0 is proximate without a Rapier pair").
+/// Found by `speedups_default` (with the speed-ups switched off) in the long run;
+/// fails under `touching`.
+/// Passes since 3d1c5a1 (sampled bodies the user turned kinematic or fixed tell nothing).
+#[test]
+fn fixed_a_step_is_noticed_when_a_sampled_body_turns_kinematic() {
+    use harness::{Second, Ty};
+    let kinematic = Op::Kinematic {
+        x: 0,
+        y: 0,
+        z: 0,
+        vx: 0,
+        vz: 0,
+        velocity_based: false,
+    };
+    let ops = [
+        kinematic.clone(),
+        ball(0, 1, 0, 0),
+        ball(0, 5, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::RemoveBody(181),
+        Op::Step(24),
+        kinematic,
+        Op::Step(1),
+        Op::Second(Second::Attach),
+        // A ball at rest, sampled.
+        Op::SetType(42, Ty::KinematicPosition),
+        ball(0, 0, 0, 0),
+        Op::Second(Second::Step(1)),
+    ];
+    // Failed when found: "after step 27: validate() failed: graph invariant violated:
+    // Rapier pair of nodes 9–10 has no edge".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// As `fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest`, with two layers
+/// taking turns on one world: the second layer's second
+/// step misses the first layer's step, and a fixed body turned kinematic rests in
+/// the world: "Rapier pair of nodes 2–11 has no edge" in the second layer. Found by
+/// `speedups_reliable_sleep`; fails under `touching` alike.
+/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+#[test]
+fn fixed_two_layers_taking_turns_with_a_kinematic_body_at_rest() {
+    use harness::{Second, Ty};
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::Cube {
+            x: 3,
+            y: 4,
+            z: 2,
+            r: 0,
+        },
+        Op::Second(Second::Attach),
+        Op::FixedBody { x: 2, y: 3, z: 1 },
+        // The fixed body just added.
+        Op::SetType(131, Ty::KinematicVelocity),
+        Op::Second(Second::Step(1)),
+        ball(0, 0, 0, 0),
+        Op::Teleport {
+            body: 179,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        Op::Step(1),
+        Op::Second(Second::Step(1)),
+    ];
+    run_unsteered(Config::Proximity, &ops, false).unwrap();
+    // Failed when found: "op #11 Second(Step(1)): second layer, after its step 2:
+    // validate() failed: graph invariant violated: Rapier pair of nodes 2–11 has no
+    // edge".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// Two layers taking turns, the first widening sensors (`set_trigger_widening`), the
+/// second not, both reading every pair: a wall turned sensor in place is widened by
+/// the first layer's pre-step, Rapier then reports its intersection with the floor,
+/// and the second layer, which saw the sensor before, never reads it again ("nodes
+/// 2–3 intersect in Rapier but have no geometric edge"). To the second layer the
+/// first one's widening is a change of static geometry in place, which the docs ask a
+/// full sync for, but nothing tells it. Found by the `proximity` configuration's long
+/// run, shrunk. (Alike for any write of one layer the other relies on: the
+/// `COLLISION_EVENTS` flags one layer takes off when its touching tracking ends.)
+/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+#[test]
+fn fixed_a_second_layer_sees_the_sensors_the_first_widened() {
+    use harness::Second;
+    let ops = [
+        Op::Second(Second::Attach),
+        // A wall.
+        Op::ToggleSensor(92),
+        Op::Second(Second::Step(1)),
+        ball(0, 0, 0, 0),
+        Op::Step(1),
+        Op::Second(Second::Step(1)),
+    ];
+    // Failed when found: "op #5 Second(Step(1)): second layer, after its step 2:
+    // validate() failed: graph invariant violated: nodes 2–3 intersect in Rapier but
+    // have no geometric edge".
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+}
+
+/// Observe-only is not bit-identical across a step the layer did not see: colliders
+/// inserted since the layer's last step are stepped by Rapier alone without
+/// `COLLISION_EVENTS`, and the layer's next pre-step adds the flag to them
+/// (`set_active_events` through `ColliderSet::get_mut`, which marks them modified for
+/// Rapier's next step). Rapier then treats them as changed, and the trajectories
+/// part from those of the plain world given the same operations (body 1 after step
+/// 3 here). The twin passes when it gets the same flag writes at the same time (so the
+/// write itself, not the flag, makes the difference); the flag written before a
+/// collider's first step, as without unseen steps, changes nothing. Found by the
+/// `touching` configuration, shrunk by hand: every operation is needed (the
+/// difference comes from the order Rapier handles pairs in).
+/// Documented since e9d1bfa: loops with steps the layer did not see give up bit-identity
+/// (`docs/ARCHITECTURE.md`, "Steps the layer did not see"); kept to show it (fails with
+/// `--ignored`).
+#[test]
+#[ignore = "documented: after a step the layer did not see, flagging colliders changes trajectories"]
+fn limit_flags_added_after_an_unseen_step_change_no_trajectory() {
+    use harness::Ty;
+    let ops = [
+        Op::Cube {
+            x: 2,
+            y: 0,
+            z: 0,
+            r: 2,
+        },
+        Op::Cube {
+            x: 0,
+            y: 0,
+            z: 1,
+            r: 0,
+        },
+        Op::Kinematic {
+            x: -2,
+            y: 5,
+            z: 1,
+            vx: 0,
+            vz: -1,
+            velocity_based: false,
+        },
+        ball(0, 6, 2, 1),
+        Op::Unseen(1),
+        Op::SetType(214, Ty::Fixed),
+        Op::Kinematic {
+            x: 0,
+            y: 2,
+            z: -1,
+            vx: 0,
+            vz: 2,
+            velocity_based: true,
+        },
+        Op::Cube {
+            x: -3,
+            y: 3,
+            z: -2,
+            r: 0,
+        },
+        Op::SetType(38, Ty::Dynamic),
+        ball(0, 2, 0, 0),
+        ball(2, 0, 0, 1),
+        Op::FixedBody { x: 0, y: 2, z: -2 },
+        ball(-3, 1, -1, 0),
+        ball(3, 4, 0, 1),
+        ball(-3, 0, 2, 1),
+        ball(-4, 2, -3, 3),
+        Op::Kinematic {
+            x: 0,
+            y: 0,
+            z: 0,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        ball(-3, 1, 0, 0),
+        Op::Multibody { a: 53, b: 225 },
+    ];
+    // The layer sees every step: bit-identical.
+    let mut seen = ops.clone();
+    seen[4] = Op::Step(1);
+    run_unsteered(Config::Touching, &seen, false).unwrap();
+    // Failed when found: "after step 3: trajectories differ from the plain Rapier
+    // twin: body (1, 0)".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
