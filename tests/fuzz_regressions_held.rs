@@ -295,9 +295,10 @@ fn fixed_a_body_made_passive_keeps_no_frozen_edge() {
 /// the frozen one ("edge e0v0 counts 2 touching collider pairs, Rapier has 1"). Under
 /// `touching`, `proximity` and `speedups_default` (no fixation) it passes. Found by
 /// `speedups_papers_fastest`'s and `speedups_reliable_sleep`'s long runs, shrunk.
+/// Passes since a body touching a held one that starts to move has its touching
+/// pairs counted again from Rapier.
 #[test]
-#[ignore = "bug: a body under a held one, turned dynamic, counts their contact twice"]
-fn bug_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once() {
+fn fixed_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once() {
     use harness::{Call, Preset, Ty, Who};
     let ops = [
         // The floor.
@@ -402,5 +403,61 @@ fn bug_a_body_jointed_to_a_disabled_one_is_not_held() {
         Op::Step(21),
     ];
     // Failed when found: a panic in Rapier's step.
+    run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
+}
+
+/// A pile with a rule, a joint and a multibody joint whose bodies the speed-ups hold
+/// (`reliable_sleep`): in a debug build Rapier's island manager asserts ("assertion
+/// failed: member(link.body1) || member(link.body2)", `island_manager/persistent.rs:835`)
+/// in the layer's step. Found by `speedups_reliable_sleep`'s long run in the test
+/// profile (debug assertions on; the release run, without them, passed), shrunk by
+/// the runner to these 20 operations: without the rule, the joint or the multibody
+/// joint it passes, and so it does under `touching`, `proximity`, `speedups_default`
+/// and `speedups_papers_fastest`. The guess: a multibody (or impulse) joint whose
+/// bodies are both out of Rapier's islands (held: fixed, or parked) while Rapier keeps
+/// a link between them. In a release build the assertion is compiled out and this test
+/// passes: run it in the test profile.
+#[test]
+#[ignore = "bug: in debug builds, held bodies in a multibody trip a Rapier island assertion"]
+fn bug_a_held_body_in_a_multibody_trips_no_rapier_assertion() {
+    use harness::Preset;
+    let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
+    let ops = [
+        ball(-2, 0, -1, 1),
+        Op::Step(30),
+        Op::IgnoreBetween(4, 128),
+        Op::RemoveCollider(91),
+        Op::SetShape(28, 10),
+        Op::MoveStatic {
+            collider: 6,
+            x: -4,
+            y: 5,
+            z: 0,
+        },
+        Op::ExtraCollider { on: 48, x: 0 },
+        cube(1, 0, -2, 1),
+        cube(3, 1, 2, 3),
+        Op::Step(2),
+        ball(1, 5, -3, 0),
+        cube(-3, 5, 1, 0),
+        Op::Step(30),
+        cube(-2, 1, 1, 2),
+        ball(4, 0, -4, 3),
+        Op::Joint {
+            a: 78,
+            b: 122,
+            revolute: false,
+        },
+        Op::SetParent(42, Some(233)),
+        Op::Multibody { a: 218, b: 113 },
+        Op::Velocity {
+            body: 6,
+            vx: -1,
+            vy: 3,
+            vz: 1,
+        },
+        Op::Step(3),
+    ];
+    // Failed when found (debug build): the assertion in Rapier's step.
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }

@@ -23,12 +23,19 @@ impl Coherence {
             self.remove_node(graph, groups, n);
         }
         for n in std::mem::take(&mut graph.kind_changed) {
-            // A held body the user gave another type: Rapier computes its kept
-            // contacts again (and reports them started): they are counted again.
-            if graph
-                .node(n)
-                .is_some_and(|n| n.is_held() && !n.kind().is_insulator())
-            {
+            // A held body the user gave another type, or a body touching a held one
+            // that now moves: Rapier computes their kept contacts again (and reports
+            // them started): they are counted again.
+            let unfreezes = graph.node(n).is_some_and(|node| {
+                !node.kind().is_insulator()
+                    && (node.is_held()
+                        || graph.neighbors(n).any(|(m, _, e)| {
+                            e.kind() == EdgeKind::Physical
+                                && e.is_touching()
+                                && graph.node(m).is_some_and(|o| o.is_held())
+                        }))
+            });
+            if unfreezes {
                 self.stale.push(n);
             }
             self.kind_changes += 1;
