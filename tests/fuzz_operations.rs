@@ -167,8 +167,9 @@
 //! each place names the test; `harness::run_unsteered` replays without it):
 //! - no body under a held one is turned dynamic
 //!   (`bug_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once`), and no held
-//!   body made passive is joined to a multibody, nor a held multibody member made
-//!   passive (`bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`);
+//!   body joins a multibody (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
+//!   `bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`), nor is a held
+//!   multibody member made passive;
 //! - no user `set_enabled(false)` on a held body in its parking step
 //!   (`limit_a_held_body_the_user_disables_while_parking_stays_disabled`), nor on a
 //!   jointed body where the speed-ups run

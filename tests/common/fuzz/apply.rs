@@ -379,6 +379,9 @@ impl Harness {
             }
             Op::Multibody { a, b } => {
                 if let (Some(b1), Some(b2)) = (self.body(a), self.body(b)) {
+                    // No held body joins a multibody: in debug builds Rapier's island
+                    // manager asserts (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`
+                    // in `tests/fuzz_regressions_held.rs`).
                     // Rapier asserts that a multibody's non-root links are dynamic (a
                     // body the speed-ups hold fixed, and still fixed, is dynamic to its
                     // user: the layer releases it, see
@@ -396,6 +399,7 @@ impl Harness {
                         && !self.rapier_disabled(b2)
                         && !self.held_passive(b1)
                         && !self.held_passive(b2)
+                        && !(self.steer && (self.held(b1) || self.held(b2)))
                     {
                         self.both(|w| {
                             let _ = w.insert_multibody_joint(
