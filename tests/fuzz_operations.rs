@@ -165,9 +165,8 @@
 //! limit (they fail with `--ignored`). So that the fuzzing goes on finding new bugs,
 //! the harness avoids what triggers the open bugs and the limits (`Harness::steer`;
 //! each place names the test; `harness::run_unsteered` replays without it):
-//! - no body under a held one is turned dynamic
-//!   (`bug_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once`), and no held
-//!   body joins a multibody (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
+//! - no held body joins a multibody
+//!   (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
 //!   `bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`), nor is a held
 //!   multibody member made passive;
 //! - no user `set_enabled(false)` on a held body in its parking step

@@ -62,44 +62,6 @@ impl Harness {
         self.layer.speedups().is_some_and(|s| s.is_fixated(h))
     }
 
-    /// Whether a body the speed-ups hold was made passive: joined to a multibody, it
-    /// makes Rapier panic in the layer's step
-    /// (`bug_a_held_passive_body_joined_to_a_multibody_does_not_panic` in
-    /// `tests/fuzz_regressions_held.rs`), so it is not joined.
-    pub(super) fn held_passive(&self, h: RigidBodyHandle) -> bool {
-        self.steer
-            && self.held(h)
-            && self
-                .passive
-                .get(&raw(h))
-                .is_some_and(|a| a.disabled && a.by_layer)
-    }
-
-    /// Whether a body touches a body the speed-ups hold (in the graph).
-    pub(super) fn touches_held(&self, h: RigidBodyHandle) -> bool {
-        let Some(s) = self.layer.speedups() else {
-            return false;
-        };
-        let g = self.layer.graph();
-        self.layer.node_of_body(h).is_ok_and(|n| {
-            g.touching(n)
-                .any(|m| g.body_of(m).is_some_and(|b| s.is_fixated(b)))
-        })
-    }
-
-    /// Whether a type change is left out: a body held ones rest on, turned dynamic,
-    /// counts their contact twice
-    /// (`bug_a_body_under_a_held_one_turned_dynamic_counts_the_contact_once` in
-    /// `tests/fuzz_regressions_held.rs`).
-    pub(super) fn type_avoided(&self, h: RigidBodyHandle, ty: super::Ty) -> bool {
-        let rb = &self.world.bodies[h];
-        self.steer
-            && ty == super::Ty::Dynamic
-            && !rb.is_dynamic()
-            && !self.held(h)
-            && self.touches_held(h)
-    }
-
     /// A multibody link other than the root: Rapier asserts that such a body is
     /// dynamic (multibody.rs), so its type is never changed.
     pub(super) fn non_root_link(&self, h: RigidBodyHandle) -> bool {
@@ -302,10 +264,7 @@ impl Harness {
             }
             Op::SetType(i, ty) => {
                 // Rapier asserts that a multibody's non-root links are dynamic.
-                if let Some(h) = self
-                    .body(i)
-                    .filter(|&h| !self.non_root_link(h) && !self.type_avoided(h, ty))
-                {
+                if let Some(h) = self.body(i).filter(|&h| !self.non_root_link(h)) {
                     let sync = self.needs_sync(h);
                     self.both(|w| w.bodies[h].set_body_type(ty.rapier(), true));
                     if sync {
@@ -380,8 +339,10 @@ impl Harness {
             Op::Multibody { a, b } => {
                 if let (Some(b1), Some(b2)) = (self.body(a), self.body(b)) {
                     // No held body joins a multibody: in debug builds Rapier's island
-                    // manager asserts (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`
-                    // in `tests/fuzz_regressions_held.rs`).
+                    // manager asserts, and a passive one makes Rapier panic
+                    // (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
+                    // `bug_a_held_passive_body_joined_to_a_multibody_does_not_panic` in
+                    // `tests/fuzz_regressions_held.rs`).
                     // Rapier asserts that a multibody's non-root links are dynamic (a
                     // body the speed-ups hold fixed, and still fixed, is dynamic to its
                     // user: the layer releases it, see
@@ -397,8 +358,6 @@ impl Harness {
                         && self.world.multibody_joints.rigid_body_link(b2).is_none()
                         && !self.rapier_disabled(b1)
                         && !self.rapier_disabled(b2)
-                        && !self.held_passive(b1)
-                        && !self.held_passive(b2)
                         && !(self.steer && (self.held(b1) || self.held(b2)))
                     {
                         self.both(|w| {
