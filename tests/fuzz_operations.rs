@@ -72,10 +72,10 @@
 //! *sleeping, fixed or disabled* body in place (type change, enabled flag, moving a
 //! fixed body or a parentless collider), and after an insertion and a removal between
 //! the same two steps (`audit`, B1: otherwise found within `slots / verify_budget()`
-//! steps only); after detaching the second layer (it takes off the
-//! `COLLISION_EVENTS` flags it added, which the first may have relied on). A type the
-//! user gives a held body gets no full sync: the layer answers it itself (rule 4 of
-//! "Releasing held bodies"). The harness keeps no invariant of its own: it reads the
+//! steps only), on both layers when there are two; after detaching the second layer
+//! (it takes off the `COLLISION_EVENTS` flags it added, which the first may have
+//! relied on). A type the user gives a held body, or its enabled flag, gets no full
+//! sync: the layer answers them itself (rule 4 of "Releasing held bodies"). The harness keeps no invariant of its own: it reads the
 //! world and the layer after each step.
 //!
 //! # What is checked after every step
@@ -178,11 +178,16 @@
 //!   joint the layer has not guarded yet has a disabled body
 //!   (`limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`:
 //!   Rapier panics), or a multibody holds a disabled body
-//!   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`); nor,
+//!   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`), or
+//!   the layer has rules (`bug_a_rule_holds_across_a_step_the_layer_did_not_see`,
+//!   `bug_a_rule_of_one_layer_holds_across_the_other_layers_steps`); nor,
 //!   but under the proximity configuration, while the speed-ups own sleeping
 //!   (`bug_an_unseen_step_is_noticed_under_the_speedups`);
 //! - the twin gets the layer's own `COLLISION_EVENTS` writes, at the same time
-//!   (`limit_flags_added_after_an_unseen_step_change_no_trajectory`).
+//!   (`limit_flags_added_after_an_unseen_step_change_no_trajectory`);
+//! - the second layer gets a full sync when the first changed a sensor's collision
+//!   types since its last step, as `set_trigger_widening`'s docs ask
+//!   (`limit_a_second_layer_sees_a_new_sensor_the_first_widened`).
 //!
 //! Met by the check itself (always, steered or not): the twin gets the collision
 //! types the layer gave the world's colliders (widened, or given back), set as the

@@ -458,3 +458,117 @@ fn limit_flags_added_after_an_unseen_step_change_no_trajectory() {
     // twin: body (1, 0)".
     run_unsteered(Config::Touching, &ops, true).unwrap();
 }
+
+/// Two layers taking turns on a world with no dynamic body awake (here none at all: a
+/// sensor the first layer widens, the arena): the layer's witness samples awake
+/// dynamic bodies, finds none, and falls back on the size of Rapier's active set,
+/// which a step does not change; so the second layer does not notice the first
+/// layer's step, in which the widened sensor met the floor ("nodes 5–6 intersect in
+/// Rapier but have no geometric edge"), and no full read comes (as it does in
+/// `fixed_a_second_layer_sees_the_sensors_the_first_widened`). Found by the
+/// `proximity` configuration's long run with another seed (`PROPTEST_RNG_SEED=7`),
+/// shrunk. Documented: a second layer sees one layer's widening as a sensor changed
+/// in place, to be told with its `request_full_sync` (`set_trigger_widening`'s docs),
+/// as the harness does; kept to show it (fails with `--ignored`).
+#[test]
+#[ignore = "documented: a second layer sees a sensor the first widened only after its request_full_sync"]
+fn limit_a_second_layer_sees_a_new_sensor_the_first_widened() {
+    use harness::Second;
+    let ops = [
+        Op::Second(Second::Attach),
+        Op::Sensor {
+            on: None,
+            x: 0,
+            y: 6,
+            z: 0,
+        },
+        Op::Second(Second::Step(1)),
+        Op::Step(1),
+        Op::Second(Second::Step(1)),
+    ];
+    // Failed when found: "op #4 Second(Step(1)): second layer, after its step 2:
+    // validate() failed: graph invariant violated: nodes 5–6 intersect in Rapier but
+    // have no geometric edge".
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+}
+
+/// A rule (`Rule::ignore_between`, a sensor against static geometry) screens a pair
+/// through the layer's hooks, which a step of Rapier alone does not have: in that step
+/// Rapier pairs them (the floor removed, a static collider moved into the sensor),
+/// and since neither side moves Rapier keeps the intersection afterwards; the layer's
+/// next analysis still screens it, and `validate()` says so ("a rule screens the pair
+/// ... but Rapier collides it"). Either the layer has Rapier evaluate its rule members'
+/// pairs again after a missed step, or the docs say that rules, like the passive
+/// bodies' joint guard, hold only in the steps the layer sees. Found by the
+/// `proximity` configuration's long run with `PROPTEST_RNG_SEED=7`, shrunk.
+#[test]
+#[ignore = "bug: a rule does not hold across a step the layer did not see"]
+fn bug_a_rule_holds_across_a_step_the_layer_did_not_see() {
+    let ops = [
+        Op::Sensor {
+            on: None,
+            x: -3,
+            y: 0,
+            z: 0,
+        },
+        Op::Step(1),
+        Op::IgnoreBetween(2, 64),
+        Op::Sensor {
+            on: None,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        Op::RemoveBody(0),
+        Op::Step(1),
+        Op::MoveStatic {
+            collider: 21,
+            x: -2,
+            y: 0,
+            z: 0,
+        },
+        Op::Unseen(1),
+    ];
+    // Failed when found: "after step 4: validate() failed: graph invariant violated: a
+    // rule screens the pair ColliderHandle(6)–ColliderHandle(1) of nodes n6v0 (Sensor)
+    // – n1v0 ..., but Rapier collides it".
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+}
+
+/// The same with two layers taking turns: a rule of the first layer screens its pair
+/// only in the first layer's steps (its hooks), and the second layer's steps collide
+/// it; the second layer, which has no rule, misses the first layer's step in which the
+/// pair was screened ("Rapier pair of nodes 4–9 has no edge" in the second layer).
+/// Either two layers with rules on one world are documented as unsupported, or
+/// something has to give. Found by the `touching` configuration's long run with
+/// `PROPTEST_RNG_SEED=7`, shrunk.
+#[test]
+#[ignore = "bug: a rule of one layer does not hold in the other layer's steps"]
+fn bug_a_rule_of_one_layer_holds_across_the_other_layers_steps() {
+    use harness::Second;
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, -2, 0),
+        ball(0, 6, -1, 0),
+        Op::RemoveCollider(21),
+        Op::Kinematic {
+            x: 0,
+            y: 1,
+            z: 0,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        Op::Step(33),
+        Op::Second(Second::Attach),
+        Op::IgnoreBetween(64, 32),
+        Op::Second(Second::Step(5)),
+        ball(0, 1, 0, 0),
+        Op::Step(1),
+        Op::Second(Second::Step(1)),
+    ];
+    // Failed when found: "op #11 Second(Step(1)): second layer, after its step 6:
+    // validate() failed: graph invariant violated: Rapier pair of nodes 4–9 has no
+    // edge".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}

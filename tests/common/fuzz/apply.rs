@@ -57,6 +57,15 @@ impl Harness {
                 && !self.pending.contains_key(&raw(h)))
     }
 
+    /// `request_full_sync()` where the docs ask for it: on every layer on the world
+    /// (each is told of a change in place, as its own user would tell it).
+    pub(super) fn full_sync(&mut self) {
+        self.layer.request_full_sync();
+        if let Some(l) = &mut self.second {
+            l.request_full_sync();
+        }
+    }
+
     /// Whether the speed-ups hold a body fixed: to its user, it is still dynamic.
     pub(super) fn held(&self, h: RigidBodyHandle) -> bool {
         self.layer.speedups().is_some_and(|s| s.is_fixated(h))
@@ -94,7 +103,7 @@ impl Harness {
         self.added |= grew;
         self.removed |= shrank;
         if self.added && self.removed && (grew || shrank) {
-            self.layer.request_full_sync();
+            self.full_sync();
         }
         Ok(())
     }
@@ -191,7 +200,7 @@ impl Harness {
                         col.set_sensor(!col.is_sensor());
                     });
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -205,7 +214,7 @@ impl Harness {
                         || parent.is_none_or(|p| self.needs_sync(p));
                     self.both(|w| w.colliders.set_parent(c, parent, &mut w.bodies));
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -234,7 +243,7 @@ impl Harness {
                         }
                     });
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -245,7 +254,7 @@ impl Harness {
                         .is_none_or(|p| self.needs_sync(p));
                     self.both(|w| w.colliders[c].set_enabled(on));
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -268,7 +277,7 @@ impl Harness {
                     let sync = self.needs_sync(h);
                     self.both(|w| w.bodies[h].set_body_type(ty.rapier(), true));
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -278,7 +287,7 @@ impl Harness {
                         self.world.bodies[h].is_fixed() || !self.world.bodies[h].is_enabled();
                     self.both(|w| w.bodies[h].set_translation(grid(x, y, z), true));
                     if sync {
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }
@@ -286,7 +295,7 @@ impl Harness {
                 if let Some(c) = self.collider(collider) {
                     if self.world.colliders[c].parent().is_none() {
                         self.both(|w| w.colliders[c].set_translation(grid(x, y, z)));
-                        self.layer.request_full_sync();
+                        self.full_sync();
                     }
                 }
             }

@@ -16,6 +16,16 @@ use super::ops::{pick, raw, vel};
 use super::oracle::touching_agrees;
 use super::{Asked, Call, Config, Harness, Second, Who};
 
+/// Every sensor's collision types, in slot order.
+fn sensor_types(world: &PhysicsWorld) -> Vec<(ColliderHandle, ActiveCollisionTypes)> {
+    world
+        .colliders
+        .iter()
+        .filter(|(_, c)| c.is_sensor())
+        .map(|(h, c)| (h, c.active_collision_types()))
+        .collect()
+}
+
 impl Harness {
     /// The body a user's call goes to: parked, held or any, each falling back to the
     /// next when there is none.
@@ -93,7 +103,7 @@ impl Harness {
                 let sync = self.needs_sync(h) && !self.held(h);
                 self.both(|w| w.bodies[h].set_body_type(ty.rapier(), true));
                 if sync {
-                    self.layer.request_full_sync();
+                    self.full_sync();
                 }
             }
             Call::Enabled(on) => {
@@ -128,7 +138,7 @@ impl Harness {
                 let sync = self.needs_sync(h) && !self.held(h);
                 self.both(|w| w.bodies[h].set_enabled(on));
                 if sync {
-                    self.layer.request_full_sync();
+                    self.full_sync();
                 }
                 // A `set_body_disabled` since the last step is applied after this
                 // call, at the next pre-step: it stays the last word.
@@ -176,7 +186,10 @@ impl Harness {
     ///   (`bug_an_unseen_step_with_a_held_body_joined_to_a_multibody_does_not_panic`);
     ///   and while a multibody holds a disabled body, the same without the pre-step
     ///   that makes a passive body joined to a multibody active again
-    ///   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`).
+    ///   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`);
+    /// - while the layer has rules: a step without the layer's hooks applies none
+    ///   (`bug_a_rule_holds_across_a_step_the_layer_did_not_see`,
+    ///   `bug_a_rule_of_one_layer_holds_across_the_other_layers_steps`).
     pub(super) fn unseen_avoided(&self) -> bool {
         if !self.steer {
             return false;
@@ -206,6 +219,7 @@ impl Harness {
         };
         let layer_sleep = self.layer.speedups().is_some_and(|s| s.config().sleepy);
         (self.config != Config::Proximity && layer_sleep)
+            || !self.rules.is_empty()
             || unguarded_joint()
             || fixed_link()
             || disabled_member()
@@ -244,7 +258,7 @@ impl Harness {
                     // It took off the `COLLISION_EVENTS` flags it added, which the
                     // first layer may have found set and relied on: the docs ask for a
                     // full sync after such flags go.
-                    self.layer.request_full_sync();
+                    self.full_sync();
                 }
             }
             Second::Step(n) => {
@@ -265,7 +279,16 @@ impl Harness {
         let Some(l) = self.second.as_mut() else {
             return Ok(());
         };
+        // The first layer's widening is a change in place to the second, which
+        // `set_trigger_widening`'s docs ask its `request_full_sync` for
+        // (`limit_a_second_layer_sees_a_new_sensor_the_first_widened` in
+        // `tests/fuzz_regressions_unseen.rs`).
+        let types = sensor_types(&self.world);
+        if self.steer && types != self.second_types {
+            l.request_full_sync();
+        }
         l.step(&mut self.world);
+        self.second_types = sensor_types(&self.world);
         let step = l.current_step();
         self.counters.second_steps += 1;
         self.quarantined

@@ -157,8 +157,10 @@ pub struct Harness {
     /// alone, while the layer only observes (dropped at the first operation that
     /// lets the layer change motion: a rule, a passive body, the speed-ups).
     twin: Option<PhysicsWorld>,
-    /// The second layer on the same world, if attached.
+    /// The second layer on the same world, if attached, and the sensors' collision
+    /// types after its last step.
     second: Option<ContactLayer>,
+    second_types: Vec<(ColliderHandle, ActiveCollisionTypes)>,
     /// Whether the operations steer clear of the open bugs (each place names its
     /// regression test); off to replay a bug.
     pub steer: bool,
@@ -259,6 +261,7 @@ impl Harness {
             quarantined: HashSet::new(),
             twin,
             second: None,
+            second_types: Vec::new(),
             steer: true,
             #[cfg(test)]
             log,
