@@ -1,13 +1,16 @@
-//! What held bodies cost (`docs/ARCHITECTURE.md`, §7 "Held bodies"): the speed-ups'
-//! sleep + subgroup + fixate (with warm start, and optionally the repair monitor)
-//! against stock Rapier on the same piles, stepped in lockstep.
+//! What held bodies cost (`docs/ARCHITECTURE.md`, §7 "Held bodies"): a speed-ups
+//! preset (`SpeedUps::reliable_sleep()` unless `--preset` says otherwise, and
+//! optionally the repair monitor) against stock Rapier on the same piles, stepped in
+//! lockstep.
 //!
 //! For each scene two identical worlds are built and stepped alternately (stock first
 //! on even steps, the layer first on odd ones), each step timed in thread CPU time
 //! (in the settled phase, batches of `--batch` steps, alternating likewise):
 //! - *stock*: `world.step()`, Rapier's own sleep;
-//! - *held*: `ContactLayer::step` with `SpeedUps { cache, subgroup, fixate,
-//!   ..contact_graph() }` (the paper's sleepy objects, subgroups and fixation).
+//! - *held*: `ContactLayer::step` with the preset: `reliable` (the default),
+//!   `SpeedUps::reliable_sleep()`, the paper's sleepy objects, subgroups and fixation
+//!   with warm start; `fastest`, `SpeedUps::papers_fastest()`; `observe`, no speed-ups
+//!   (the observe-only layer, for comparison).
 //!
 //! Reported per scene, as ratios within the run (absolute times for orientation only):
 //! the whole run, the settled phase (the last `--tail` steps) per step, and for each
@@ -15,8 +18,9 @@
 //! A game sees the worst step, not the mean: each world's worst step and 99th
 //! percentile step (nearest rank) are reported too, in ms and as ratios held/stock,
 //! against the target that held bodies are judged by, a worst step at most
-//! [`WORST_STEP_TARGET`] × stock's (met or not on the median ratio over the repeats).
-//! These come from the steps timed one by one, the first `--steps` − `--tail` (all of
+//! [`WORST_STEP_TARGET`] × stock's (met or not on the median ratio over the repeats),
+//! with the step each run's worst was at (a layer's first analysis of a world built in
+//! contact falls on step 0, a burst of holds later). These come from the steps timed one by one, the first `--steps` − `--tail` (all of
 //! them with `--batch 1`); the settled batches only give a mean per step and are left
 //! out (a settled step of either world is far cheaper than a falling one).
 //! After the run, the held world is timed once more beside its *floor* (see
@@ -25,15 +29,24 @@
 //! small: what Rapier alone charges for the moving bodies left, apart from the layer
 //! and the held bodies Rapier keeps in its active set.
 //!
-//! Scenes: `boxes` (500 boxes in stacks: stock Rapier sleeps them), `pyramid` (a
-//! 40-row pyramid, 820 boxes: stock sleeps it too), `spheres` (the 1,000-sphere
-//! pile in a bin, which stock Rapier leaves partly awake) and `mixed` (the same bin
-//! with 500 balls and 500 boxes); on request also `spheres5000` (5,000 spheres).
+//! Scenes, each `name` or `name:size`: `boxes` (500 boxes in stacks: stock Rapier
+//! sleeps them), `pyramid` (40 rows, 820 boxes: stock sleeps it too), `spheres` (the
+//! 1,000-sphere pile in a bin, which stock Rapier leaves partly awake) and `mixed`
+//! (the same bin with 1,000 bodies, every second one a box); on request the same
+//! scenes at another size, e.g. `mixed:4000` (the bin of 4,000 mixed bodies) or
+//! `spheres:5000` (`spheres5000` and `mixed4000` are aliases).
+//!
+//! `--phases N` prints instead each scene's `N` slowest held steps, each split into
+//! the layer's pre-step, Rapier's step and the analysis, with what the pre-step
+//! applied and stock's step beside it: where a spike comes from.
 //!
 //! ```text
 //! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
 //! cargo bench --bench held -- --scene boxes --repeats 5
 //! cargo bench --bench held -- --monitor           # with the repair monitor
+//! cargo bench --bench held -- --scene mixed:4000 --repeats 3   # the 4,000-body bin
+//! cargo bench --bench held -- --preset fastest    # SpeedUps::papers_fastest()
+//! cargo bench --bench held -- --scene boxes --phases 10   # the slowest steps, split
 //! RCG_HELD_ALONE=held cargo bench --bench held -- --scene boxes --steps 200000
 //!                                                  # one settled world alone, for `perf`
 //! ```
@@ -46,11 +59,15 @@ use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes as scenes;
 
+#[path = "held/phases.rs"]
+mod phases;
+
 #[derive(Parser)]
 #[command(about = "Held bodies against stock Rapier's sleeping bodies")]
 struct Args {
-    /// Scenes to run (boxes, pyramid, spheres, mixed, spheres5000); all but
-    /// spheres5000 when omitted.
+    /// Scenes to run, each `name` or `name:size` (boxes, pyramid, spheres, mixed;
+    /// e.g. mixed:4000); boxes, pyramid, spheres and mixed at their default sizes
+    /// when omitted.
     #[arg(long = "scene")]
     scenes: Vec<String>,
     /// Steps per run (dt = 0.01 s).
@@ -68,6 +85,16 @@ struct Args {
     /// Add the repair monitor to the held world.
     #[arg(long)]
     monitor: bool,
+    /// The held world's layer: reliable (`SpeedUps::reliable_sleep()`), fastest
+    /// (`SpeedUps::papers_fastest()`) or observe (no speed-ups).
+    #[arg(long, default_value = "reliable")]
+    preset: String,
+    /// Instead of the table: the `N` slowest steps of the held world of each scene,
+    /// each split into the layer's pre-step, Rapier's step and the analysis, with
+    /// stock's step beside it (`--repeats` runs of `--steps` steps, all timed one by
+    /// one).
+    #[arg(long, value_name = "N")]
+    phases: Option<usize>,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -76,23 +103,33 @@ struct Args {
 /// The held world's worst step may be at most this many times stock's worst step.
 const WORST_STEP_TARGET: f64 = 1.25;
 
+/// A scene by name (`name` or `name:size`, see the module doc).
 fn build(scene: &str) -> Option<PhysicsWorld> {
-    Some(match scene {
-        "boxes" => scenes::box_pile(500, 1).world,
-        "pyramid" => scenes::stability::pyramid::pyramid_of(40).world,
-        "spheres" => scenes::sphere_pile(1000, 1).world,
-        "mixed" => scenes::mixed_pile(1000, 1).world,
-        "spheres5000" => scenes::sphere_pile(5000, 1).world,
+    let scene = match scene {
+        "spheres5000" => "spheres:5000",
+        "mixed4000" => "mixed:4000",
+        s => s,
+    };
+    let (name, size) = match scene.split_once(':') {
+        Some((name, size)) => (name, Some(size.parse::<usize>().ok().filter(|&n| n > 0)?)),
+        None => (scene, None),
+    };
+    Some(match name {
+        "boxes" => scenes::box_pile(size.unwrap_or(500), 1).world,
+        "pyramid" => scenes::stability::pyramid::pyramid_of(size.unwrap_or(40)).world,
+        "spheres" => scenes::sphere_pile(size.unwrap_or(1000), 1).world,
+        "mixed" => scenes::mixed_pile(size.unwrap_or(1000), 1).world,
         _ => return None,
     })
 }
 
-fn config() -> SpeedUps {
-    SpeedUps {
-        cache: true,
-        subgroup: true,
-        fixate: true,
-        ..SpeedUps::contact_graph()
+/// The held world's speed-ups (`--preset`); `None` for the observe-only layer.
+fn config(preset: &str) -> Option<Option<SpeedUps>> {
+    match preset {
+        "reliable" => Some(Some(SpeedUps::reliable_sleep())),
+        "fastest" => Some(Some(SpeedUps::papers_fastest())),
+        "observe" => Some(None),
+        _ => None,
     }
 }
 
@@ -135,14 +172,14 @@ struct Run {
 /// the held world's moving bodies.
 fn floor_of(scene: &str, held: &PhysicsWorld, layer: &ContactLayer) -> PhysicsWorld {
     let mut f = build(scene).expect("scene");
-    let s = layer.speedups().expect("speed-ups");
+    let s = layer.speedups();
     for (h, rb) in held.bodies.iter() {
         let Some(fb) = f.bodies.get_mut(h) else {
             continue;
         };
         fb.set_position(*rb.position(), false);
         *fb.activation_mut() = rb.activation().clone();
-        if s.is_fixated(h) {
+        if s.is_some_and(|s| s.is_fixated(h)) {
             fb.set_body_type(RigidBodyType::Fixed, false);
         } else {
             fb.set_linvel(rb.linvel(), false);
@@ -152,11 +189,12 @@ fn floor_of(scene: &str, held: &PhysicsWorld, layer: &ContactLayer) -> PhysicsWo
     f
 }
 
-/// The held world's layer: the speed-ups of [`config`], and the repair monitor with
-/// `--monitor`.
+/// The held world's layer: the speed-ups of `--preset` ([`config`]), and the repair
+/// monitor with `--monitor`.
 fn held_layer(args: &Args) -> ContactLayer {
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(config())).expect("valid speed-ups");
+    let speedups = config(&args.preset).expect("preset checked in main");
+    layer.set_speedups(speedups).expect("valid speed-ups");
     if args.monitor {
         layer
             .set_monitor(
@@ -341,6 +379,23 @@ fn print_step_tails(runs: &[Run]) {
             ms(tails.iter().map(|[_, h]| of(h)).collect())
         );
     }
+    // Where each run's worst steps were: the layer's first analysis, a burst of
+    // holds, or a step of the awake phase.
+    let at = |v: &[f64]| {
+        v.iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map_or(0, |(i, _)| i)
+    };
+    let n = runs[0].timed_alone;
+    let steps: Vec<String> = runs
+        .iter()
+        .map(|r| format!("{} · {}", at(&r.stock[..n]), at(&r.held[..n])))
+        .collect();
+    println!(
+        "  worst at step, stock · held, by run: {}",
+        steps.join(", ")
+    );
     let m = median(tails.iter().map(|[s, h]| h.0 / s.0).collect());
     println!(
         "  target: worst step ≤ {WORST_STEP_TARGET:.2}× stock's   {} (median {m:.3}, over the first {} steps)",
@@ -365,24 +420,56 @@ fn main() {
     );
     // Diagnostics: one world alone, settled, stepped `--steps` times (`RCG_HELD_ALONE=stock`
     // or `held`), its mean thread CPU time per step; for profiles.
+    if config(&args.preset).is_none() {
+        eprintln!(
+            "held: unknown preset {:?} (reliable, fastest, observe)",
+            args.preset
+        );
+        std::process::exit(2);
+    }
+    for scene in &chosen {
+        if build(scene).is_none() {
+            eprintln!(
+                "held: unknown scene {scene:?} (boxes, pyramid, spheres, mixed, each with an optional :size)"
+            );
+            std::process::exit(2);
+        }
+    }
     if let Ok(which) = std::env::var("RCG_HELD_ALONE") {
         alone(&chosen[0], &which, &args);
         return;
     }
+    if let Some(top) = args.phases {
+        for scene in &chosen {
+            for _ in 0..args.repeats {
+                let (Some(mut stock), Some(mut held)) = (build(scene), build(scene)) else {
+                    unreachable!("scenes checked above");
+                };
+                println!("{scene}, {} steps:", args.steps);
+                phases::run(
+                    &mut stock,
+                    &mut held,
+                    &mut held_layer(&args),
+                    args.steps,
+                    top,
+                );
+            }
+        }
+        return;
+    }
+    let preset = match args.preset.as_str() {
+        "reliable" => "reliable_sleep() (sleep + subgroup + fixate + warm start)",
+        "fastest" => "papers_fastest() (+ zero + damp)",
+        _ => "the observe-only layer (no speed-ups)",
+    };
     println!(
-        "held: sleep + subgroup + fixate + warm start{} vs stock Rapier, {} steps, settled = last {}, thread CPU time, {} repeats",
+        "held: {preset}{} vs stock Rapier, {} steps, settled = last {}, thread CPU time, {} repeats",
         if args.monitor { " + repair monitor" } else { "" },
         args.steps,
         args.tail,
         args.repeats
     );
     for scene in &chosen {
-        if build(scene).is_none() {
-            eprintln!(
-                "held: unknown scene {scene:?} (boxes, pyramid, spheres, mixed, spheres5000)"
-            );
-            std::process::exit(2);
-        }
         let runs: Vec<Run> = (0..args.repeats).map(|_| run(scene, &args)).collect();
         let whole: Vec<f64> = runs.iter().map(|r| sum(&r.held) / sum(&r.stock)).collect();
         let tail = |v: &[f64]| sum(&v[v.len() - args.tail..]) / args.tail as f64;
