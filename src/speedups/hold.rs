@@ -38,6 +38,10 @@ pub(super) struct Held {
     pub(super) links: Vec<RigidBodyHandle>,
 }
 
+/// A body that may be held at the next pre-step: (its steps at rest, reversed so
+/// that the longest rest sorts first; its key; its node; its handle).
+type Candidate = (std::cmp::Reverse<u32>, (u32, u32), NodeId, RigidBodyHandle);
+
 /// A fixation decided at the analysis, applied at the next pre-step.
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -289,34 +293,75 @@ impl SpeedUpState {
         self.stats.fixated = self.held.len();
     }
 
-    /// Queues the fixation of every sleepy awake dynamic body that is not held yet,
-    /// with what holds it up now (`up` against gravity). O(refreshed bodies + sleepy
-    /// bodies' contact pairs).
+    /// Queues the fixation of the sleepy awake dynamic bodies that are not held yet,
+    /// with what holds them up now (`up` against gravity): at most [`hold_budget`]
+    /// of them, those at rest the longest first (then in handle order). The others
+    /// are returned in handle order: *deferred*, they stay awake and the next
+    /// analyses decide them again, each waiting step moving them up the queue.
+    /// O(refreshed bodies · log + queued bodies' contact pairs).
     pub(super) fn decide_fixations(
         &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         refreshed: &[NodeId],
         up: Vector,
-    ) {
+    ) -> Vec<RigidBodyHandle> {
         // Fixate: every sleepy awake simulated body, with what holds it up now.
-        let mut found = Vec::new();
+        let mut candidates: Vec<Candidate> = Vec::new();
         for &n in refreshed {
             let Some(node) = graph.node(n) else { continue };
             if node.kind() != NodeKind::Dynamic || !node.is_awake() {
                 continue;
             }
             let Some(h) = node.body() else { continue };
-            if self.rest_of(h).is_some_and(|r| r.sleepy) && !self.is_fixated(h) {
-                let supports = supporters_now(graph, view, n, up, &mut found);
-                let links = self.links_now(graph, n);
-                self.to_fix.push(ToFix {
-                    handle: h,
-                    supports,
-                    links,
-                });
-                self.stats.fixations = self.stats.fixations.saturating_add(1);
+            match self.rest_of(h) {
+                Some(r) if r.sleepy && !self.is_fixated(h) => {
+                    candidates.push((std::cmp::Reverse(r.steps), key(h), n, h));
+                }
+                _ => {}
             }
         }
+        candidates.sort_unstable_by_key(|c| (c.0, c.1));
+        candidates.dedup_by_key(|c| c.1);
+        let budget =
+            hold_budget(view.islands.num_active_bodies()).saturating_sub(self.to_fix.len());
+        let mut deferred: Vec<RigidBodyHandle> = candidates
+            .split_off(budget.min(candidates.len()))
+            .into_iter()
+            .map(|c| c.3)
+            .collect();
+        deferred.sort_unstable_by_key(|&h| key(h));
+        let mut found = Vec::new();
+        for (_, _, n, h) in candidates {
+            let supports = supporters_now(graph, view, n, up, &mut found);
+            let links = self.links_now(graph, n);
+            self.to_fix.push(ToFix {
+                handle: h,
+                supports,
+                links,
+            });
+            self.stats.fixations = self.stats.fixations.saturating_add(1);
+        }
+        deferred
     }
 }
+
+/// How many fixations one pre-step applies at most, and how many held bodies it
+/// parks at most, with `active` bodies in Rapier's active set (what its last step
+/// integrated): [`HOLD_BUDGET_MIN`] or `active` / [`HOLD_BUDGET_SHARE`], whichever
+/// is more. Rapier answers a body's change of type (or its disabling) by computing
+/// its collider pairs anew in its next step and waking what touches it, so a pile
+/// held all at once cost that step several times a normal one; bounded by a share
+/// of what the step integrates anyway, a step's holds add a bounded fraction to it.
+/// O(1).
+pub(crate) fn hold_budget(active: usize) -> usize {
+    HOLD_BUDGET_MIN.max(active / HOLD_BUDGET_SHARE)
+}
+
+/// The least number of fixations (and of parkings) a pre-step applies when that
+/// many are pending (see [`hold_budget`]).
+pub(crate) const HOLD_BUDGET_MIN: usize = 32;
+
+/// The share of Rapier's active bodies one pre-step may fixate (and park): one in
+/// this many (see [`hold_budget`]).
+pub(crate) const HOLD_BUDGET_SHARE: usize = 16;

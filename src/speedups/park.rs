@@ -76,9 +76,13 @@ impl SpeedUpState {
     /// Chooses the held bodies to park at the next pre-step: in Rapier's active set,
     /// without joints, and whose every collider pair has a fixed partner and neither
     /// touches nor intersects (so that disabling the body for a step changes no
-    /// contact, no event and no neighbour). O(active held bodies × their pairs).
+    /// contact, no event and no neighbour): the first
+    /// [`hold_budget`](super::hold::hold_budget) of them in handle order, the others
+    /// at the next analyses (a parking is a write Rapier answers as it answers a
+    /// fixation). O(active held bodies × their pairs).
     pub(super) fn choose_parking(&mut self, view: &WorldView) {
         self.to_park.clear();
+        let budget = super::hold::hold_budget(view.islands.num_active_bodies());
         for k in &self.unparked {
             let Some(held) = self.held.get(k) else {
                 continue;
@@ -117,6 +121,9 @@ impl SpeedUpState {
             });
             if quiet {
                 self.to_park.push(h);
+                if self.to_park.len() >= budget {
+                    break;
+                }
             }
         }
     }

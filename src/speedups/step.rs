@@ -53,8 +53,10 @@ impl SpeedUpState {
         self.to_fix.sort_by_key(|f| key(f.handle));
     }
 
-    /// Decides sleep eligibility and fixation after the groups were rebuilt.
-    /// O(awake groups' members + fast bodies' contacts).
+    /// Decides sleep eligibility and fixation after the groups were rebuilt: the
+    /// releases in full, the fixations up to the pre-step's budget
+    /// ([`super::hold::hold_budget`]). O(awake groups' members + fast bodies'
+    /// contacts).
     pub(crate) fn decide(
         &mut self,
         graph: &ContactGraph,
@@ -88,15 +90,26 @@ impl SpeedUpState {
             return;
         }
         let c = self.config.clone();
-        if c.sleepy {
-            let want = self.wanted_eligibility(graph, groups, refreshed, &c);
-            self.note_eligibility(view, want);
-        }
+        let mut want = c
+            .sleepy
+            .then(|| self.wanted_eligibility(graph, groups, refreshed, &c));
         if c.fixate {
             let up = up_of(view.gravity);
             self.decide_releases(graph, view, refreshed);
-            self.decide_fixations(graph, view, refreshed, up);
+            let deferred = self.decide_fixations(graph, view, refreshed, up);
+            // A body whose fixation waits for a later pre-step stays awake meanwhile
+            // (not sleep-eligible), so that it is held, not put to sleep by Rapier.
+            if let (Some(want), false) = (&mut want, deferred.is_empty()) {
+                for w in want.iter_mut().filter(|w| w.1) {
+                    w.1 = deferred
+                        .binary_search_by_key(&key(w.0), |&h| key(h))
+                        .is_err();
+                }
+            }
             self.decide_support(graph, view, up, changes);
+        }
+        if let Some(want) = want {
+            self.note_eligibility(view, want);
         }
     }
 }
