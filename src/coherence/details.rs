@@ -28,45 +28,15 @@ pub(crate) fn read_details(
     a: NodeId,
     b: NodeId,
 ) -> Option<ContactCache> {
-    let (first, second) = if a.index() <= b.index() {
-        (a, b)
-    } else {
-        (b, a)
-    };
-    let (first_colliders, second_colliders) = (
-        NodeColliders::of(graph, view, first)?,
-        NodeColliders::of(graph, view, second)?,
-    );
-    let (first_colliders, second_colliders) =
-        (first_colliders.as_slice(), second_colliders.as_slice());
-    // Walk the pairs of the side with fewer colliders; a pair is the two nodes' when
-    // its other collider is one of the other side's.
-    let walk_first = first_colliders.len() <= second_colliders.len();
-    let (walked, others) = if walk_first {
-        (first_colliders, second_colliders)
-    } else {
-        (second_colliders, first_colliders)
-    };
     let mut cache = ContactCache::default();
     cache.begin_update(true);
     let mut any = false;
-    for &c in walked {
-        for pair in view.narrow_phase.contact_pairs_with(c) {
-            let other = super::pairs::other_collider(pair, c);
-            if !others.contains(&other) {
-                continue;
-            }
-            any = true;
-            // Rapier's normal points from `collider1` to `collider2`: flip it when
-            // `collider1` is the second node's.
-            let second_is_1 = if walk_first {
-                pair.collider1 == other
-            } else {
-                pair.collider1 == c
-            };
-            super::pairs::accumulate_pair(&mut cache, pair, second_is_1, true);
-        }
-    }
+    visit_pairs(graph, view, a, b, |pair, [_, second]| {
+        any = true;
+        // Rapier's normal points from `collider1` to `collider2`: flip it when
+        // `collider1` is the second node's.
+        super::pairs::accumulate_pair(&mut cache, pair, pair.collider1 == second, true);
+    })?;
     any.then_some(cache)
 }
 
@@ -82,6 +52,29 @@ pub(crate) fn smallest_touching_pair(
     a: NodeId,
     b: NodeId,
 ) -> Option<[ColliderHandle; 2]> {
+    let key = |p: [ColliderHandle; 2]| (p[0].into_raw_parts(), p[1].into_raw_parts());
+    let mut best: Option<[ColliderHandle; 2]> = None;
+    visit_pairs(graph, view, a, b, |pair, named| {
+        if pair.has_any_active_contact() && best.is_none_or(|b| key(named) < key(b)) {
+            best = Some(named);
+        }
+    })?;
+    best
+}
+
+/// Calls `visit` with each Rapier contact pair between the colliders of `a` and `b`
+/// and its two colliders, the one of the node with the smaller slot (the edge's *A*)
+/// first. It walks the pairs of the side with fewer colliders; a pair is the two
+/// nodes' when its other collider is one of the other side's. `None` if a node stands
+/// for nothing. O(the contact pairs of the colliders of the node with fewer colliders
+/// × the other's collider count).
+fn visit_pairs<'w>(
+    graph: &ContactGraph,
+    view: &'w WorldView,
+    a: NodeId,
+    b: NodeId,
+    mut visit: impl FnMut(&'w rapier3d::geometry::ContactPair, [ColliderHandle; 2]),
+) -> Option<()> {
     let (first, second) = if a.index() <= b.index() {
         (a, b)
     } else {
@@ -99,21 +92,15 @@ pub(crate) fn smallest_touching_pair(
     } else {
         (second_colliders, first_colliders)
     };
-    let key = |p: [ColliderHandle; 2]| (p[0].into_raw_parts(), p[1].into_raw_parts());
-    let mut best: Option<[ColliderHandle; 2]> = None;
     for &c in walked {
         for pair in view.narrow_phase.contact_pairs_with(c) {
             let other = super::pairs::other_collider(pair, c);
-            if !others.contains(&other) || !pair.has_any_active_contact() {
-                continue;
-            }
-            let named = if walk_first { [c, other] } else { [other, c] };
-            if best.is_none_or(|b| key(named) < key(b)) {
-                best = Some(named);
+            if others.contains(&other) {
+                visit(pair, if walk_first { [c, other] } else { [other, c] });
             }
         }
     }
-    best
+    Some(())
 }
 
 /// The colliders a node stands for: its body's, or its own as static geometry.
