@@ -59,7 +59,7 @@ impl Coherence {
         let finite = rb.is_some_and(|rb| {
             rb.position().translation.is_finite() && rb.position().rotation.is_finite()
         });
-        let enabled = rb.is_some_and(|rb| rb.is_enabled());
+        let passive = self.is_passive(rb.is_some_and(|rb| rb.is_enabled()), h);
         let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
         let resigned = graph
             .node(id)
@@ -98,11 +98,7 @@ impl Coherence {
                 self.awake_flips.push(id);
             }
             n.non_finite = !finite;
-            n.passive = !enabled
-                && self
-                    .parking
-                    .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
-                    .is_err();
+            n.passive = passive;
             if was_passive != n.passive {
                 self.passive_changed.push(id);
             }
@@ -126,6 +122,17 @@ impl Coherence {
             }
             self.walk.push(id);
         }
+    }
+
+    /// Whether a body counts as passive: not `enabled` in Rapier, but not disabled by
+    /// the speed-ups for the one step a held body spends on its way out of Rapier's
+    /// active set. O(log parking).
+    pub(super) fn is_passive(&self, enabled: bool, h: RigidBodyHandle) -> bool {
+        !enabled
+            && self
+                .parking
+                .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
+                .is_err()
     }
 }
 

@@ -98,10 +98,6 @@ impl Coherence {
         let (Some(node), Some(rb)) = (graph.node(id), view.bodies.get(h)) else {
             return false;
         };
-        let parking = self
-            .parking
-            .binary_search_by_key(&h.into_raw_parts(), |p| p.into_raw_parts())
-            .is_ok();
-        node.passive != (!rb.is_enabled() && !parking)
+        node.passive != self.is_passive(rb.is_enabled(), h)
     }
 }
