@@ -98,13 +98,10 @@ fn fixed_an_unseen_step_is_noticed_with_a_fixed_body_in_the_active_set() {
 /// both at zero velocity) hides the step. Under `touching` (no speed-ups) the same
 /// sequence passes. Found by `speedups_papers_fastest`'s long run, shrunk; also seen
 /// with two layers taking turns under `speedups_contact_graph`.
-/// Still failing after 3d1c5a1 (velocities beside poses in the witness): one
-/// sampled ball falls, the other two rest exactly, and the witness asks every
-/// sampled body to have moved; the documented limit (`docs/ARCHITECTURE.md`, "What
-/// the witness cannot see") names only a sample that rests entirely.
+/// Here one sampled ball falls and the other two rest exactly; the witness asked
+/// every sampled body to have moved. It now asks it of the bodies that were moving.
 #[test]
-#[ignore = "bug: under the speed-ups, a step the layer did not see goes unnoticed when some sampled bodies rest"]
-fn bug_an_unseen_step_is_noticed_under_the_speedups() {
+fn fixed_an_unseen_step_is_noticed_under_the_speedups() {
     use harness::{Preset, Ty};
     let ops = [
         Op::RemoveBody(0),
@@ -195,7 +192,7 @@ fn limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic() {
 /// ("edge e1v0 touching = true, Rapier says false"). With the step seen, or without the
 /// teleport or the sleep, or under touching tracking, it passes. Found by the
 /// `proximity` configuration's long run, shrunk.
-/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+/// Fixed by reading a missed step in full under proximity tracking too.
 #[test]
 fn fixed_a_body_asleep_on_both_sides_of_an_unseen_step_is_read_again() {
     let ops = [
@@ -274,7 +271,7 @@ fn limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic() {
 /// second layer's, it fails alike ("edge e0v0 is proximate without a Rapier pair").
 /// Found by `speedups_default` (with the speed-ups switched off) in the long run;
 /// fails under `touching`.
-/// Passes since 3d1c5a1 (sampled bodies the user turned kinematic or fixed tell nothing).
+/// Fixed by letting sampled bodies the user turned kinematic or fixed tell nothing.
 #[test]
 fn fixed_a_step_is_noticed_when_a_sampled_body_turns_kinematic() {
     use harness::{Second, Ty};
@@ -356,7 +353,7 @@ fn fixed_two_layers_taking_turns_with_a_kinematic_body_at_rest() {
 /// full sync for, but nothing tells it. Found by the `proximity` configuration's long
 /// run, shrunk. (Alike for any write of one layer the other relies on: the
 /// `COLLISION_EVENTS` flags one layer takes off when its touching tracking ends.)
-/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+/// Fixed by reading a missed step in full under proximity tracking too.
 #[test]
 fn fixed_a_second_layer_sees_the_sensors_the_first_widened() {
     use harness::Second;
@@ -495,16 +492,31 @@ fn limit_a_second_layer_sees_a_new_sensor_the_first_widened() {
 /// A rule (`Rule::ignore_between`, a sensor against static geometry) screens a pair
 /// through the layer's hooks, which a step of Rapier alone does not have: in that step
 /// Rapier pairs them (the floor removed, a static collider moved into the sensor),
-/// and since neither side moves Rapier keeps the intersection afterwards; the layer's
-/// next analysis still screens it, and `validate()` says so ("a rule screens the pair
-/// ... but Rapier collides it"). Either the layer has Rapier evaluate its rule members'
-/// pairs again after a missed step, or the docs say that rules, like the passive
-/// bodies' joint guard, hold only in the steps the layer sees. Found by the
+/// and since neither side moves Rapier would keep the intersection afterwards. With a
+/// ball falling far away the witness sees the missed step, and the layer's next step
+/// (a full read) puts the rule back in force.
+#[test]
+fn a_rule_holds_again_after_a_step_the_layer_noticed_it_missed() {
+    let mut ops = vec![ball(4, 9, 4, 0)];
+    ops.extend(rule_across_an_unseen_step());
+    run_unsteered(Config::Proximity, &ops, true).unwrap();
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// The same without the falling ball: nothing in the world moves, so no witness sees
+/// the missed step (`docs/ARCHITECTURE.md`, "What the witness cannot see"), and the
+/// pair the rule screens stays collided until a rule or a member changes. Found by the
 /// `proximity` configuration's long run with `PROPTEST_RNG_SEED=7`, shrunk.
 #[test]
-#[ignore = "bug: a rule does not hold across a step the layer did not see"]
-fn bug_a_rule_holds_across_a_step_the_layer_did_not_see() {
-    let ops = [
+#[ignore = "limit: a step the layer did not see, in a world where nothing moves, goes unnoticed"]
+fn limit_a_rule_holds_across_an_unseen_step_where_nothing_moves() {
+    run_unsteered(Config::Proximity, &rule_across_an_unseen_step(), true).unwrap();
+}
+
+/// A sensor and static geometry that a rule keeps apart, and a step of Rapier alone
+/// after the static collider moved into the sensor.
+fn rule_across_an_unseen_step() -> Vec<Op> {
+    vec![
         Op::Sensor {
             on: None,
             x: -3,
@@ -528,23 +540,17 @@ fn bug_a_rule_holds_across_a_step_the_layer_did_not_see() {
             z: 0,
         },
         Op::Unseen(1),
-    ];
-    // Failed when found: "after step 4: validate() failed: graph invariant violated: a
-    // rule screens the pair ColliderHandle(6)–ColliderHandle(1) of nodes n6v0 (Sensor)
-    // – n1v0 ..., but Rapier collides it".
-    run_unsteered(Config::Proximity, &ops, true).unwrap();
+    ]
 }
 
-/// The same with two layers taking turns: a rule of the first layer screens its pair
-/// only in the first layer's steps (its hooks), and the second layer's steps collide
-/// it; the second layer, which has no rule, misses the first layer's step in which the
-/// pair was screened ("Rapier pair of nodes 4–9 has no edge" in the second layer).
-/// Either two layers with rules on one world are documented as unsupported, or
-/// something has to give. Found by the `touching` configuration's long run with
-/// `PROPTEST_RNG_SEED=7`, shrunk.
+/// Two layers taking turns, a rule on the first: the second layer, which has no rule,
+/// did not notice the first layer's step in which the pair was screened ("Rapier pair
+/// of nodes 4–9 has no edge" in the second layer): some of its sampled bodies rested
+/// exactly, and the witness asked every sampled body to have moved (see
+/// `fixed_an_unseen_step_is_noticed_under_the_speedups`). Found by the `touching`
+/// configuration's long run with `PROPTEST_RNG_SEED=7`, shrunk.
 #[test]
-#[ignore = "bug: a rule of one layer does not hold in the other layer's steps"]
-fn bug_a_rule_of_one_layer_holds_across_the_other_layers_steps() {
+fn fixed_two_layers_taking_turns_with_a_rule_on_one() {
     use harness::Second;
     let ops = [
         ball(0, 0, 0, 0),
@@ -571,4 +577,52 @@ fn bug_a_rule_of_one_layer_holds_across_the_other_layers_steps() {
     // validate() failed: graph invariant violated: Rapier pair of nodes 4–9 has no
     // edge".
     run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// The floor turned kinematic, then dynamic again by the user, and a step of Rapier
+/// alone: the active set held no dynamic body to sample (the floor was kinematic at
+/// the analysis), and its size did not change, so the missed step went unnoticed
+/// ("Rapier pair of nodes 0–1 has no edge": the falling floor meets the walls). The
+/// witness now records a few other bodies of the active set when it has no dynamic
+/// one, and one made dynamic that moved tells. Found by `speedups_reliable_sleep`'s
+/// long run once it no longer steered clear of unseen steps, shrunk.
+#[test]
+fn fixed_an_unseen_step_is_noticed_when_a_kinematic_body_turned_dynamic_falls() {
+    use harness::{Call, Preset, Ty, Who};
+    let ops = [
+        Op::SetType(0, Ty::KinematicVelocity),
+        Op::Step(1),
+        Op::User(Who::Any(0), Call::Type(Ty::Dynamic)),
+        Op::Unseen(1),
+    ];
+    run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
+/// Overlapping balls flying apart, one of which the user disables with Rapier's own
+/// `set_enabled(false)`, then steps of Rapier alone: the disabled ball was sampled
+/// moving and did not move in the missed steps, so the witness (every sampled moving
+/// body changed) said no step ("edge e0v0 is proximate without a Rapier pair"). A
+/// sampled body the user disabled now tells nothing. Found by
+/// `speedups_papers_fastest`'s long run once it no longer steered clear of unseen
+/// steps, shrunk.
+#[test]
+fn fixed_an_unseen_step_is_noticed_when_a_sampled_body_is_disabled() {
+    use harness::{Call, Preset, Who};
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::RemoveCollider(0),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::Step(1),
+        Op::Joint {
+            a: 101,
+            b: 95,
+            revolute: false,
+        },
+        Op::User(Who::Held(37), Call::Enabled(false)),
+        Op::Unseen(2),
+    ];
+    run_unsteered(Config::SpeedUps(Preset::PapersFastest), &ops, true).unwrap();
 }

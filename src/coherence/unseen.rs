@@ -26,6 +26,9 @@ pub(crate) const SAMPLE: usize = 8;
 pub(crate) struct StepWitness {
     /// Sampled bodies: handle, pose bits, velocity bits, sleep timer.
     sample: Vec<(RigidBodyHandle, [u32; 7], [u32; 6], f32)>,
+    /// With no dynamic body to sample, a few other bodies of the active set
+    /// (kinematic, or fixed by the user or the speed-ups): handle and pose bits.
+    others: Vec<(RigidBodyHandle, [u32; 7])>,
     /// Rapier's active-set size at the last analysis.
     active: usize,
     /// Whether an analysis recorded the witness (not after a restore).
@@ -34,7 +37,7 @@ pub(crate) struct StepWitness {
 
 impl StepWitness {
     /// Records the first [`SAMPLE`] dynamic bodies of Rapier's active set as they are
-    /// after the step just analysed. O(SAMPLE + the kinematic and fixed bodies before
+    /// after the step just analysed (with none, its first other bodies' poses). O(SAMPLE + the kinematic and fixed bodies before
     /// them in the active set).
     pub(crate) fn record(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
         self.sample.clear();
@@ -51,39 +54,65 @@ impl StepWitness {
                 rb.activation().time_since_can_sleep,
             ));
         }
+        self.others.clear();
+        if self.sample.is_empty() {
+            let others = islands
+                .active_bodies()
+                .filter_map(|h| bodies.get(h).map(|rb| (h, pose_bits(rb.position()))));
+            self.others.extend(others.take(SAMPLE));
+        }
         self.active = islands.num_active_bodies();
         self.recorded = true;
     }
 
     /// Whether Rapier stepped since [`Self::record`], as far as the sample tells: a
-    /// sampled body's sleep timer grew, or every sampled body still in the world and
-    /// dynamic moved or changed velocity, or (none left) the active set changed
-    /// size. A user who teleports every
-    /// sampled body, or removes them, between two steps makes it answer `true` too:
-    /// the layer then reads the world once more than it needed. O(SAMPLE).
+    /// sampled body's sleep timer grew, or every sampled body that was moving (and is
+    /// still in the world and dynamic) moved or changed velocity, or, none moving,
+    /// every one still there did, or (none left) a body of the active set that was not
+    /// dynamic is dynamic now and moved, or the active set changed size. Bodies
+    /// at rest are left out while some moved: a pile's resting bodies keep their pose
+    /// through a step (exactly so under the speed-ups, which zero their velocities and
+    /// own sleeping, so that no sleep timer grows). A user who teleports every
+    /// sampled moving body, or removes them, between two steps makes it answer `true`
+    /// too: the layer then reads the world once more than it needed. O(SAMPLE).
     pub(crate) fn stepped_since(&self, bodies: &RigidBodySet, islands: &IslandManager) -> bool {
         if !self.recorded {
             return false;
         }
-        let mut live = 0;
-        let mut moved = 0;
+        let (mut live, mut changed) = (0, 0);
+        let (mut moving, mut moving_changed) = (0, 0);
         for &(h, pose, vel, timer) in &self.sample {
-            // A body removed, or turned kinematic or fixed by the user, tells nothing.
-            let Some(rb) = bodies.get(h).filter(|rb| rb.is_dynamic()) else {
+            // A body removed, turned kinematic or fixed, or disabled by the user (a
+            // step does not move it) tells nothing.
+            let Some(rb) = bodies
+                .get(h)
+                .filter(|rb| rb.is_dynamic() && rb.is_enabled())
+            else {
                 continue;
             };
             live += 1;
             if rb.activation().time_since_can_sleep > timer {
                 return true;
             }
-            if pose_bits(rb.position()) != pose || vel_bits(rb) != vel {
-                moved += 1;
+            let now = pose_bits(rb.position()) != pose || vel_bits(rb) != vel;
+            changed += usize::from(now);
+            if vel.iter().any(|&v| f32::from_bits(v) != 0.0) {
+                moving += 1;
+                moving_changed += usize::from(now);
             }
         }
-        if live > 0 {
-            moved == live
+        if moving > 0 {
+            moving_changed == moving
+        } else if live > 0 {
+            changed == live
         } else {
-            islands.num_active_bodies() != self.active
+            // A body that was not dynamic, made dynamic by the user, moves in a step.
+            let fell = self.others.iter().any(|&(h, pose)| {
+                bodies
+                    .get(h)
+                    .is_some_and(|rb| rb.is_dynamic() && pose_bits(rb.position()) != pose)
+            });
+            fell || islands.num_active_bodies() != self.active
         }
     }
 }
@@ -100,11 +129,17 @@ impl Coherence {
     /// full, as after [`Self::request_full_sync`]. Touching tracking learns changes
     /// from the events alone; proximity tracking reads the pairs of every body awake
     /// now or at the last update, but a body the user woke and put back to sleep
-    /// around the missed step was asleep at both. O([`SAMPLE`]).
-    pub(crate) fn check_unseen_step(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
-        if self.tracking.is_some() && self.witness.stepped_since(bodies, islands) {
+    /// around the missed step was asleep at both. Whether it saw one. O([`SAMPLE`]).
+    pub(crate) fn check_unseen_step(
+        &mut self,
+        bodies: &RigidBodySet,
+        islands: &IslandManager,
+    ) -> bool {
+        let seen = self.tracking.is_some() && self.witness.stepped_since(bodies, islands);
+        if seen {
             self.force_full_sync = true;
             self.unseen_step = true;
         }
+        seen
     }
 }

@@ -64,11 +64,13 @@ impl ContactLayer {
         }
         let colliders_changed = world.colliders.len() != self.colliders_seen;
         self.colliders_seen = world.colliders.len();
+        let speedups = self.speedups.as_ref();
         self.logic.pre_step(
             &self.graph,
             &mut world,
             colliders_changed,
             self.coherence.created_nodes(),
+            &|h| speedups.is_some_and(|s| s.is_fixated(h)),
         );
         if let Some(mut m) = self.monitor_restore.take() {
             m.restore(&mut world);

@@ -236,6 +236,7 @@ impl Logic {
         world: &mut WorldMut,
         colliders_changed: bool,
         new_nodes: &[NodeId],
+        held: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
         // The members' colliders, when rules exist: a member that gained one collider
         // and lost another (the count unchanged), or had one moved to it in place,
@@ -291,7 +292,7 @@ impl Logic {
             || !self.passive.is_empty()
             || !self.held_joints.is_empty()
         {
-            self.apply_passive(graph, world);
+            self.apply_passive(graph, world, held);
         }
         // Sensors are widened before their first Rapier step: Rapier pairs colliders
         // that do not move only when they appear, so widening later would miss
@@ -402,7 +403,7 @@ impl Logic {
         for h in passive {
             self.passive_queue.push((h, false));
         }
-        self.apply_passive(graph, world);
+        self.apply_passive(graph, world, &|_| false);
     }
 
     /// Applies the queued passive changes, then guards the passive bodies against what
@@ -431,10 +432,21 @@ impl Logic {
     ///   Rapier never changes) and remembers it; it enables it again once both its
     ///   bodies are enabled and not passive. Nothing is lost; a joint the user disabled
     ///   stays disabled.
-    fn apply_passive(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
+    ///
+    /// `held` tells the bodies the speed-ups hold (fixed to Rapier, dynamic to the
+    /// user): they count as dynamic here, since the speed-ups give them back dynamic.
+    fn apply_passive(
+        &mut self,
+        graph: &ContactGraph,
+        world: &mut WorldMut,
+        held: &dyn Fn(RigidBodyHandle) -> bool,
+    ) {
         let dynamic_member = |world: &WorldMut, h: RigidBodyHandle| {
             world.multibody_joints.rigid_body_link(h).is_some()
-                && world.bodies.get(h).is_some_and(|rb| rb.is_dynamic())
+                && world
+                    .bodies
+                    .get(h)
+                    .is_some_and(|rb| rb.is_dynamic() || held(h))
         };
         for (h, passive) in std::mem::take(&mut self.passive_queue) {
             if !world.bodies.contains(h) {

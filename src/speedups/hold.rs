@@ -77,6 +77,20 @@ impl Held {
     }
 }
 
+/// Whether Rapier cannot step a body fixed where it is joined: a multibody member
+/// (link or root), or a body with an impulse joint to a disabled one (see
+/// [`SpeedUpState::release_joined`]). O(its joints).
+fn joined_unsafely(world: &WorldMut, h: RigidBodyHandle) -> bool {
+    world.multibody_joints.rigid_body_link(h).is_some()
+        || world
+            .impulse_joints
+            .attached_joints(h)
+            .any(|(b1, b2, _, _)| {
+                let other = if b1 == h { b2 } else { b1 };
+                world.bodies.get(other).is_some_and(|rb| !rb.is_enabled())
+            })
+}
+
 impl SpeedUpState {
     /// Records a held body, and its supporters in the dependents index. O(its
     /// supporters · log).
@@ -177,26 +191,36 @@ impl SpeedUpState {
         &self.to_release
     }
 
-    /// Releases the held bodies the user joined to a multibody as a link since they
-    /// were fixated: a held body is fixed in Rapier, and Rapier asserts that a
-    /// multibody's links other than the root are dynamic. O(held bodies), only while
-    /// the world has a multibody.
-    pub(super) fn release_links(&mut self, world: &WorldMut) {
-        // A held body is fixed in Rapier, and Rapier asserts that a multibody's links
-        // other than the root are dynamic: one the user joined to a multibody as a
-        // link since it was fixated is released now, before Rapier's step.
-        if !self.held.is_empty() && world.multibody_joints.multibodies().next().is_some() {
-            let links: Vec<RigidBodyHandle> = self
-                .held
-                .values()
-                .map(|held| held.handle)
-                .filter(|&h| {
-                    let link = world.multibody_joints.rigid_body_link(h);
-                    link.is_some_and(|l| l.id != 0)
-                })
-                .collect();
-            self.queue_releases(links);
+    /// Releases the held bodies the user joined since they were fixated to what Rapier
+    /// cannot step with a fixed body: a multibody (as a link Rapier asserts it dynamic;
+    /// as a root it breaks Rapier's islands and a passive one its solver), or, by an
+    /// impulse joint, a disabled body (Rapier panics on a joint between a disabled and
+    /// a fixed body). O(multibody links + impulse joints) · O(log held), only while
+    /// bodies are held.
+    pub(super) fn release_joined(&mut self, world: &WorldMut) {
+        if self.held.is_empty() {
+            return;
         }
+        let held = |h: RigidBodyHandle| self.held.contains_key(&key(h));
+        let mut out: Vec<RigidBodyHandle> = Vec::new();
+        for mb in world.multibody_joints.multibodies() {
+            out.extend(
+                mb.links()
+                    .map(|l| l.rigid_body_handle())
+                    .filter(|&h| held(h)),
+            );
+        }
+        let disabled = |h: RigidBodyHandle| world.bodies.get(h).is_some_and(|rb| !rb.is_enabled());
+        for (_, j) in world.impulse_joints.iter() {
+            let (b1, b2) = (j.body1(), j.body2());
+            if held(b1) && disabled(b2) {
+                out.push(b1);
+            }
+            if held(b2) && disabled(b1) {
+                out.push(b2);
+            }
+        }
+        self.queue_releases(out);
     }
 
     /// Applies the queued releases: each body given back as it was held, never
@@ -237,17 +261,16 @@ impl SpeedUpState {
             links,
         } in std::mem::take(&mut self.to_fix)
         {
+            if joined_unsafely(world, h) {
+                continue;
+            }
             let Some(rb) = world.bodies.get_mut(h) else {
                 continue;
             };
             // Checked again now: the fixation was decided at the last analysis, and the
-            // user may have changed the body since. A multibody member is never fixated
-            // (a link must stay dynamic: Rapier asserts it; `decide` skips `Link` nodes
-            // already), nor a disabled (passive) body.
-            if !rb.is_dynamic()
-                || !rb.is_enabled()
-                || world.multibody_joints.rigid_body_link(h).is_some()
-            {
+            // user may have changed the body since. Never fixated: one Rapier cannot step
+            // fixed ([`Self::release_joined`]), nor a disabled (passive) body.
+            if !rb.is_dynamic() || !rb.is_enabled() {
                 continue;
             }
             let held = Held {

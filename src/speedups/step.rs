@@ -34,7 +34,7 @@ impl SpeedUpState {
         let counts_changed = self.apply_config_to_bodies(world, &c);
         self.sort_decisions();
         self.write_eligibility(world);
-        self.release_links(world);
+        self.release_joined(world);
         self.apply_releases(world, mods, user_passive);
         self.apply_fixations(world);
         self.park(world, user_passive);

@@ -348,9 +348,8 @@ impl Harness {
             Op::Multibody { a, b } => {
                 if let (Some(b1), Some(b2)) = (self.body(a), self.body(b)) {
                     // No held body joins a multibody: in debug builds Rapier's island
-                    // manager asserts, and a passive one makes Rapier panic
-                    // (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
-                    // `bug_a_held_passive_body_joined_to_a_multibody_does_not_panic` in
+                    // manager may assert later
+                    // (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion` in
                     // `tests/fuzz_regressions_held.rs`).
                     // Rapier asserts that a multibody's non-root links are dynamic (a
                     // body the speed-ups hold fixed, and still fixed, is dynamic to its

@@ -44,11 +44,10 @@ impl Harness {
                 // (`fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive`).
                 // No multibody member is made active: Rapier may have quarantined it
                 // (disabled), and re-enabling one panics in Rapier's step.
-                // Nor is a held multibody member made passive: Rapier panics
-                // (`bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`).
+                // A held multibody member asked passive is refused too
+                // (`fixed_a_held_passive_body_joined_to_a_multibody_does_not_panic`).
                 let ok = |h: RigidBodyHandle| {
-                    let member = self.world.multibody_joints.rigid_body_link(h).is_some();
-                    (on || !member) && !(on && self.steer && member && self.held(h))
+                    on || self.world.multibody_joints.rigid_body_link(h).is_none()
                 };
                 if let Some(h) = self.body(i).filter(|&h| ok(h)) {
                     // A passive body changes motion: no twin from now on.

@@ -115,20 +115,7 @@ impl Harness {
                     .layer
                     .speedups()
                     .is_some_and(|s| s.parking().any(|p| p == h));
-                // Nor, where the speed-ups may hold the other end, a jointed body:
-                // fixated, that end makes Rapier panic on the joint
-                // (`bug_a_body_jointed_to_a_disabled_one_is_not_held` in
-                // `tests/fuzz_regressions_held.rs`).
-                let jointed = self
-                    .world
-                    .impulse_joints
-                    .attached_joints(h)
-                    .next()
-                    .is_some();
-                let speedups = self.config.speedups().is_some() || self.layer.speedups().is_some();
-                if self.jointed_to_disabled_or_link(h)
-                    || (!on && self.steer && (parking || (jointed && speedups)))
-                {
+                if self.jointed_to_disabled_or_link(h) || (!on && self.steer && parking) {
                     return Ok(());
                 }
                 // The docs ask for a full sync after changing a sleeping, fixed or
@@ -174,22 +161,18 @@ impl Harness {
 
     /// Whether steps one layer does not see are left out now (in
     /// `tests/fuzz_regressions_unseen.rs` and `tests/fuzz_regressions_held.rs`):
-    /// - under the speed-ups' sleep, Rapier's sleep timers do not run, and the
-    ///   layer's witness misses a step when some sampled bodies rest
-    ///   (`bug_an_unseen_step_is_noticed_under_the_speedups`); not under the
-    ///   proximity configuration;
     /// - while a joint the layer has not guarded yet has a disabled body, Rapier
     ///   panics without the layer's pre-step, a documented limit
     ///   (`limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`);
     /// - while a held body is a multibody link, Rapier asserts without the layer's
-    ///   pre-step, which releases it
-    ///   (`bug_an_unseen_step_with_a_held_body_joined_to_a_multibody_does_not_panic`);
+    ///   pre-step, which releases it, a documented limit
+    ///   (`limit_an_unseen_step_with_a_held_body_joined_to_a_multibody_panics_rapier`);
     ///   and while a multibody holds a disabled body, the same without the pre-step
     ///   that makes a passive body joined to a multibody active again
     ///   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`);
-    /// - while the layer has rules: a step without the layer's hooks applies none
-    ///   (`bug_a_rule_holds_across_a_step_the_layer_did_not_see`,
-    ///   `bug_a_rule_of_one_layer_holds_across_the_other_layers_steps`).
+    /// - while the layer has rules: a step without the layer's hooks applies none, and
+    ///   where nothing moves the layer does not notice it missed one, a documented
+    ///   limit (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`).
     pub(super) fn unseen_avoided(&self) -> bool {
         if !self.steer {
             return false;
@@ -217,12 +200,7 @@ impl Harness {
                 !rb.is_enabled() && self.world.multibody_joints.rigid_body_link(h).is_some()
             })
         };
-        let layer_sleep = self.layer.speedups().is_some_and(|s| s.config().sleepy);
-        (self.config != Config::Proximity && layer_sleep)
-            || !self.rules.is_empty()
-            || unguarded_joint()
-            || fixed_link()
-            || disabled_member()
+        !self.rules.is_empty() || unguarded_joint() || fixed_link() || disabled_member()
     }
 
     /// One step of Rapier alone (`PhysicsWorld::step`): the layer does not see it.
