@@ -45,20 +45,20 @@ fn main() {
     for step in 0..300u64 {
         if step == 100 {
             let (b, t) = (
-                layer.node_of_body(bottom).unwrap(),
-                layer.node_of_body(top).unwrap(),
+                layer.graph().try_node_of_body(bottom).unwrap(),
+                layer.graph().try_node_of_body(top).unwrap(),
             );
-            let r = layer.add_rule(Rule::ignore_pair(b, t)).unwrap();
+            let r = layer.logic_mut().add_rule(Rule::ignore_pair(b, t)).unwrap();
             println!(
                 "-- before step {}: add rule {r} = {:?}; top y = {:.2}",
                 step + 1,
-                layer.rule(r).unwrap(),
+                layer.logic().rule(r).unwrap(),
                 top_y(&world),
             );
             rule = Some(r);
         }
         if step == 200 {
-            let r = layer.remove_rule(rule.take().unwrap()).unwrap();
+            let r = layer.logic_mut().remove_rule(rule.take().unwrap()).unwrap();
             println!(
                 "-- before step {}: remove rule {r:?}; top y = {:.2}",
                 step + 1,
@@ -67,7 +67,7 @@ fn main() {
         }
         layer.step(&mut world);
         if step == 100 {
-            let n = layer.flagged_colliders();
+            let n = layer.analysis().flagged_colliders();
             println!("   (hook flags set in step 101's pre-step on {n} colliders)");
         }
         for ev in touches.try_iter() {
@@ -92,6 +92,6 @@ fn main() {
         b.y,
         t.x,
         t.y,
-        layer.flagged_colliders()
+        layer.analysis().flagged_colliders()
     );
 }

@@ -16,23 +16,35 @@ fn layer_node_queries_with_bad_ids() {
     let (mut world, _, ball, mut layer) = stepped_proximity(2);
     let (stale, removed) = stale_node(&mut layer, &mut world);
     assert_eq!(
-        layer.node_of_body(removed),
+        layer.graph().try_node_of_body(removed),
         Err(Error::UnknownBody(removed))
     );
     for f in foreign_bodies(ball) {
-        assert_eq!(layer.node_of_body(f), Err(Error::UnknownBody(f)));
+        assert_eq!(
+            layer.graph().try_node_of_body(f),
+            Err(Error::UnknownBody(f))
+        );
     }
-    let b = layer.node_of_body(ball).unwrap();
+    let b = layer.graph().try_node_of_body(ball).unwrap();
     for n in [stale].into_iter().chain(foreign_nodes(b)) {
-        assert_eq!(layer.kind_of(n), Err(Error::StaleNode(n)));
-        assert_eq!(layer.is_supported(n), Err(Error::StaleNode(n)));
-        assert!(!layer.insulates(n));
+        assert_eq!(
+            layer.graph().try_node(n).map(|x| x.kind()),
+            Err(Error::StaleNode(n))
+        );
+        assert_eq!(layer.analysis().is_supported(n), Err(Error::StaleNode(n)));
+        assert!(!layer.analysis().insulates(n));
     }
-    assert_eq!(layer.kind_of(b), Ok(NodeKind::Dynamic));
+    assert_eq!(
+        layer.graph().try_node(b).map(|x| x.kind()),
+        Ok(NodeKind::Dynamic)
+    );
     // Non-finite gravity of the last analysed world: an error, not an answer.
     world.gravity = Vector::splat(Real::NAN);
     layer.step(&mut world);
-    assert_eq!(layer.is_supported(b), Err(Error::NonFinite("gravity")));
+    assert_eq!(
+        layer.analysis().is_supported(b),
+        Err(Error::NonFinite("gravity"))
+    );
 }
 
 #[test]
@@ -106,7 +118,7 @@ fn validate_against_a_foreign_world_is_an_error() {
             dt: Real::NAN,
             ..WorldView::from(w)
         };
-        assert!(no_panic("validate_view", || layer.validate_view(&view)).is_err());
+        assert!(no_panic("validate_view", || layer.validate(&view)).is_err());
     }
 }
 
@@ -115,18 +127,20 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
     let layer = ContactLayer::default();
     assert_eq!(layer.graph().node_count(), 0);
     assert!(layer.groups().is_empty());
-    assert_eq!(layer.stats().step, 0);
-    assert_eq!(layer.current_step(), 0);
-    assert_eq!(layer.touched_edges().count(), 0);
-    assert!(layer.removed_edges().is_empty() && layer.removed_nodes().is_empty());
+    assert_eq!(layer.analysis().stats().step, 0);
+    assert_eq!(layer.analysis().current_step(), 0);
+    assert_eq!(layer.analysis().touched_edges().count(), 0);
+    assert!(
+        layer.analysis().removed_edges().is_empty() && layer.analysis().removed_nodes().is_empty()
+    );
     assert!(layer.last_events().is_empty());
-    assert_eq!(layer.event_bus().len(), 0);
-    assert_eq!(layer.flagged_colliders(), 0);
-    assert_eq!(layer.simulated_time(), 0.0);
-    assert!(layer.speedups().is_none() && layer.grouping());
+    assert_eq!(layer.analysis().event_bus().len(), 0);
+    assert_eq!(layer.analysis().flagged_colliders(), 0);
+    assert_eq!(layer.logic().simulated_time(), 0.0);
+    assert!(layer.speedups().is_none() && layer.analysis().grouping());
     assert!(layer.hooks().table().is_empty());
-    assert!(layer.coherence().contact_details());
-    assert!(layer.refusals().is_empty());
+    assert!(layer.analysis().coherence().contact_details());
+    assert!(layer.logic().refusals().is_empty());
     // Every error names what is wrong.
     let n = NodeId::from_raw_parts(3, 1);
     let e = EdgeId::from_raw_parts(4, 2);
@@ -168,7 +182,7 @@ fn accessors_on_a_fresh_layer_and_error_messages() {
 #[test]
 fn groups_get_with_stale_group_id() {
     let (mut world, _, ball, mut layer) = stepped(2);
-    let b = layer.node_of_body(ball).unwrap();
+    let b = layer.graph().try_node_of_body(ball).unwrap();
     let gid = layer.graph().node(b).unwrap().group().unwrap();
     assert!(layer.groups().get(gid).is_some());
     world.remove_body(ball);

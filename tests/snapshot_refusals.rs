@@ -123,7 +123,12 @@ fn corrupted_snapshots_are_refused_or_restore_a_layer_that_steps_without_panicki
     // iteration counts are taken as they come, as `set_speedups` takes them, so a
     // corrupted count could make Rapier's step take arbitrarily long).
     let (mut scene, mut layer, _, _) = logic_scene();
-    let predicate_of = picky_predicate(layer.node_of_body(scene.body("ground").unwrap()).unwrap());
+    let predicate_of = picky_predicate(
+        layer
+            .graph()
+            .try_node_of_body(scene.body("ground").unwrap())
+            .unwrap(),
+    );
     let predicate: IgnorePredicate = Arc::new(predicate_of);
     common::run_validated(&mut scene, &mut layer, 1, 60);
     let world_bytes = bincode::serialize(&scene.world).unwrap();
