@@ -17,10 +17,7 @@ fn name(scene: &Scene, layer: &ContactLayer, n: NodeId) -> String {
     let h = layer.graph().body_of(n);
     match scene.bodies.iter().find(|(_, b)| Some(*b) == h) {
         Some((s, _)) => s.to_string(),
-        None => format!(
-            "{n}:{:?}",
-            layer.graph().try_node(n).map(|x| x.kind()).unwrap()
-        ),
+        None => format!("{n}:{:?}", layer.graph().node(n).unwrap().kind()),
     }
 }
 
@@ -47,8 +44,7 @@ fn main() {
     for step in 1..=100u64 {
         layer.step(&mut scene.world);
         let wall = layer
-            .graph()
-            .try_node_of_body(scene.body("wall").unwrap())
+            .node_of_body(&scene.world.bodies, scene.body("wall").unwrap())
             .unwrap();
         if !hit && layer.graph().touching(wall).next().is_some() {
             hit = true;
@@ -68,7 +64,7 @@ fn main() {
         );
         for (other, e, edge) in layer.graph().neighbors(m) {
             if edge.kind() == EdgeKind::Structural {
-                let kind = layer.graph().try_node(other).map(|x| x.kind()).unwrap();
+                let kind = layer.graph().node(other).unwrap().kind();
                 println!(
                     "  structural edge {e} -> {other} {kind:?} {}",
                     name(&scene, &layer, other)
@@ -77,12 +73,11 @@ fn main() {
         }
     }
     let anchor = layer
-        .graph()
-        .try_node_of_body(scene.body("anchor").unwrap())
+        .node_of_body(&scene.world.bodies, scene.body("anchor").unwrap())
         .unwrap();
     println!(
         "anchor {anchor} is {:?}, edges {}: fixed bodies insulate, they join no container",
-        layer.graph().try_node(anchor).map(|x| x.kind()).unwrap(),
+        layer.graph().node(anchor).unwrap().kind(),
         layer.graph().node(anchor).unwrap().degree()
     );
     print_groups(&scene, &layer);
@@ -97,7 +92,7 @@ fn main() {
         h
     });
     layer.step(&mut scene.world);
-    let nodes: [NodeId; 2] = boxes.map(|h| layer.graph().try_node_of_body(h).unwrap());
+    let nodes: [NodeId; 2] = boxes.map(|h| layer.node_of_body(&scene.world.bodies, h).unwrap());
     // Groups are named by slot index here (their ids are generational).
     let report = |layer: &ContactLayer, what: &str| {
         let g = nodes.map(|n| layer.graph().node(n).unwrap().group());
@@ -109,13 +104,16 @@ fn main() {
         );
     };
     report(&layer, "boxes added");
-    let c = layer.logic_mut().declare_composite_nodes(&nodes).unwrap();
+    let c = layer
+        .logic_mut()
+        .declare_composite(&scene.world, &boxes)
+        .unwrap();
     layer.step(&mut scene.world);
     report(
         &layer,
         &format!(
             "declared composite {c} {:?}",
-            layer.graph().try_node(c).map(|x| x.kind()).unwrap()
+            layer.graph().node(c).unwrap().kind()
         ),
     );
     print_groups(&scene, &layer);

@@ -30,8 +30,7 @@ fn main() {
     let mut gone = Some(layer.subscribe(Filter::all()));
     layer.step(&mut scene.world); // the nodes exist from here on
     let b4 = layer
-        .graph()
-        .try_node_of_body(scene.body("b4").unwrap())
+        .node_of_body(&scene.world.bodies, scene.body("b4").unwrap())
         .unwrap();
     let top = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[b4]));
     println!("4 subscriptions; top box b4 is node {b4}");

@@ -51,7 +51,7 @@ fn main() {
         .union(KindSet::SLEEP),
     ));
     layer.step(&mut scene.world);
-    let ball = layer.graph().try_node_of_body(ball_body).unwrap();
+    let ball = layer.node_of_body(&scene.world.bodies, ball_body).unwrap();
     for step in 1..250u64 {
         match step {
             100 => {

@@ -16,7 +16,7 @@ fn main() {
     let ticks = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TimerTick])));
     println!(
         "timer node {timer}: kind {:?}, period {} s",
-        layer.graph().try_node(timer).map(|x| x.kind()).unwrap(),
+        layer.graph().node(timer).unwrap().kind(),
         layer.logic().timer_period(timer).unwrap()
     );
 

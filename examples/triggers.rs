@@ -45,8 +45,7 @@ fn main() {
     // The first step makes the nodes; then the ball's node can be named in a filter.
     layer.step(&mut scene.world);
     let ball = layer
-        .graph()
-        .try_node_of_body(scene.body("ball").unwrap())
+        .node_of_body(&scene.world.bodies, scene.body("ball").unwrap())
         .unwrap();
     let touches = layer.subscribe(
         Filter::kinds(KindSet::of(&[
@@ -56,8 +55,7 @@ fn main() {
         .with_nodes(&[ball]),
     );
     let trigger_body = layer
-        .graph()
-        .try_node_of_body(scene.body("trigger").unwrap())
+        .node_of_body(&scene.world.bodies, scene.body("trigger").unwrap())
         .unwrap();
     for (id, node) in layer
         .graph()
