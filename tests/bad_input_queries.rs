@@ -1,6 +1,6 @@
 //! Bad-input audit (see `tests/common/audit.rs`): the layer's queries —
-//! `node_of_body`, `kind_of`, `is_supported`, `insulates`, `node_of_collider`,
-//! `validate` / `validate_view` against a foreign world, the accessors of a fresh
+//! `node_of_body`, a node's kind, `is_supported`, `insulates`, `node_of_collider`,
+//! `validate` (of a world or a view) against a foreign world, the accessors of a fresh
 //! layer and the errors' messages, and `Groups::get` with a dissolved group.
 
 mod common;
@@ -15,17 +15,18 @@ use common::build::*;
 fn layer_node_queries_with_bad_ids() {
     let (mut world, _, ball, mut layer) = stepped_proximity(2);
     let (stale, removed) = stale_node(&mut layer, &mut world);
-    assert_eq!(
-        layer.graph().try_node_of_body(removed),
-        Err(Error::UnknownBody(removed))
-    );
-    for f in foreign_bodies(ball) {
+    for f in [removed].into_iter().chain(foreign_bodies(ball)) {
+        // Checked against the world, and as of the last step: alike here.
+        assert_eq!(
+            layer.node_of_body(&world.bodies, f),
+            Err(Error::UnknownBody(f))
+        );
         assert_eq!(
             layer.graph().try_node_of_body(f),
             Err(Error::UnknownBody(f))
         );
     }
-    let b = layer.graph().try_node_of_body(ball).unwrap();
+    let b = layer.node_of_body(&world.bodies, ball).unwrap();
     for n in [stale].into_iter().chain(foreign_nodes(b)) {
         assert_eq!(
             layer.graph().try_node(n).map(|x| x.kind()),

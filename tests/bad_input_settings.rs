@@ -1,8 +1,8 @@
 //! Bad-input audit (see `tests/common/audit.rs`): the layer's settings —
-//! `set_speedups` and `SpeedUps::validate`, the speed-up state queries, the coherence
+//! `speedups_mut().set` and `SpeedUps::validate`, the speed-up state queries, the coherence
 //! settings (`set_contact_details`, `request_full_sync`, `set_trigger_widening`, the
 //! scan policy), and the monitor: `MonitorConfig::validate`, `Monitor::check`, and the
-//! layer's `set_monitor`, `mark_pushed`, `prime_monitor`, `holds`.
+//! layer's `monitor_mut()` (`set`, `mark_pushed`, `prime`) and `analysis().holds`.
 
 mod common;
 

@@ -106,7 +106,7 @@ fn ask(
         ),
         ("validate", text(layer.validate(w).map(|()| "ok".into()))),
         (
-            "validate_view",
+            "validate (view)",
             text(layer.validate(&WorldView::from(w)).map(|()| "ok".into())),
         ),
     ]
