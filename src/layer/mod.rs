@@ -180,7 +180,7 @@ impl ContactLayer {
 
     /// A layer with an empty graph; the first update fills it from the world. It
     /// tracks touching contacts from Rapier's events where it can (see
-    /// [`Tracking`](crate::coherence::Tracking)).
+    /// [`Tracking`](crate::coherence::Tracking)). O(1).
     pub fn new() -> Self {
         Self {
             graph: ContactGraph::default(),

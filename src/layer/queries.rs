@@ -10,12 +10,12 @@ use crate::{Result, WorldView};
 use super::ContactLayer;
 
 impl ContactLayer {
-    /// The contact graph.
+    /// The contact graph, as of the last analysed step. O(1).
     pub fn graph(&self) -> &ContactGraph {
         &self.graph
     }
 
-    /// The contact groups.
+    /// The contact groups, as of the last analysed step. O(1).
     pub fn groups(&self) -> &Groups {
         &self.groups
     }

@@ -142,7 +142,7 @@ impl ContactLayer {
 
     /// The post-step analysis alone, for users who step Rapier themselves (their own
     /// `PhysicsPipeline::step` or `PhysicsWorld::step_with_events`). Call it once after
-    /// every step.
+    /// every step. Cost: as [`Self::step`]'s analysis.
     pub fn analyze(&mut self, view: WorldView) -> StepStats {
         self.gravity = view.gravity;
         let force = std::mem::take(&mut self.logic.force);
