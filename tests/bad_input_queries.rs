@@ -68,17 +68,18 @@ fn node_of_collider_with_bad_handles() {
         layer.node_of_collider(&world, hc),
         Err(Error::UnknownCollider(hc))
     );
-    // A world the layer never saw: answered from that world's parent handle, which is
-    // unknown here (or aliases a body of the same slot: handles carry no world).
+    // A world the layer never saw, not told apart here (see `Error::ForeignWorld`):
+    // answered from that world's parent handle, a body this layer has no node for
+    // (or an alias of a body of the same slot: handles carry no world).
     let mut other = PhysicsWorld::new();
     for _ in 0..5 {
         other.insert_body(RigidBodyBuilder::dynamic());
     }
     let (_, oc) = other.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(1.0));
-    assert!(matches!(
+    assert_eq!(
         layer.node_of_collider(&other, oc),
-        Err(Error::UnknownBody(_))
-    ));
+        Err(Error::UnseenCollider(oc))
+    );
 }
 
 #[test]
