@@ -58,14 +58,14 @@ fn main() {
                 show(&scene, &layer, ball, "before step 101:");
                 layer
                     .logic_mut()
-                    .set_body_disabled(ball_body, true)
+                    .set_body_disabled(&scene.world.bodies, ball_body, true)
                     .unwrap();
                 println!("-- set_body_disabled(ball, true)");
             }
             150 => {
                 layer
                     .logic_mut()
-                    .set_body_disabled(ball_body, false)
+                    .set_body_disabled(&scene.world.bodies, ball_body, false)
                     .unwrap();
                 println!("-- set_body_disabled(ball, false)");
             }

@@ -112,6 +112,13 @@ fn ask_body(
                     .map(|n| dbg(&n)),
             ),
             (
+                "logic_mut().set_body_disabled",
+                layer
+                    .logic_mut()
+                    .set_body_disabled(&world.bodies, body, true)
+                    .map(|()| "queued".to_string()),
+            ),
+            (
                 "logic_mut().declare_composite",
                 layer
                     .logic_mut()
@@ -188,6 +195,12 @@ fn a_body_not_seen_yet_answers_empty_and_its_node_is_unseen() {
         layer
             .logic_mut()
             .declare_composite(&s.world, &[fresh, s.ball]),
+        Err(unseen.clone())
+    );
+    assert_eq!(
+        layer
+            .logic_mut()
+            .set_body_disabled(&s.world.bodies, fresh, true),
         Err(unseen)
     );
     assert_eq!(

@@ -169,7 +169,10 @@ fn bug_step_huge_dt_misses_pairs() {
 #[test]
 fn pre_step_with_a_foreign_world_and_twice() {
     let (mut world, ground, ball, mut layer) = stepped(3);
-    layer.logic_mut().set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     let (g, b) = (
         layer.graph().try_node_of_body(ground).unwrap(),
         layer.graph().try_node_of_body(ball).unwrap(),
@@ -390,18 +393,25 @@ fn wrong_time_changes_between_pre_step_and_rapier_step_wait_for_the_next_pre_ste
 fn wrong_time_calls_before_the_first_step() {
     let (world, ground, ball) = ball_on_ground();
     let mut layer = ContactLayer::new();
-    // The layer has not seen the world yet: bodies are unknown, not an absent value.
+    // The layer has not seen the world yet: its bodies are not seen yet where a node
+    // is needed (the graph, asked without the world, has none).
     assert_eq!(
         layer.graph().try_node_of_body(ball),
         Err(Error::UnknownBody(ball))
     );
     assert_eq!(
-        layer.logic_mut().set_body_disabled(ball, true),
-        Err(Error::UnknownBody(ball))
+        layer.node_of_body(&world.bodies, ball),
+        Err(Error::UnseenBody(ball))
     );
-    assert!(Error::UnknownBody(ball)
+    assert_eq!(
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, ball, true),
+        Err(Error::UnseenBody(ball))
+    );
+    assert!(Error::UnseenBody(ball)
         .to_string()
-        .contains("not seen by the layer yet"));
+        .contains("inserted since the layer's last step"));
     // Nothing analysed yet: nothing to hold against the world.
     assert_eq!(layer.validate(&world), Ok(()));
     assert!(layer.graph().edge_of_bodies(ground, ball).is_none());

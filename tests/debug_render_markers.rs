@@ -66,7 +66,10 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
     );
     let mut layer = ContactLayer::new();
     run(&mut layer, &mut world, 1);
-    layer.logic_mut().set_body_disabled(passive, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, passive, true)
+        .unwrap();
     run(&mut layer, &mut world, 19);
     assert!(!world.bodies[resting].is_sleeping(), "awake after 0.2 s");
 

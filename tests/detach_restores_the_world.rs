@@ -144,11 +144,11 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
         .unwrap();
     layer
         .logic_mut()
-        .set_body_disabled(bodies[1], true)
+        .set_body_disabled(&world.bodies, bodies[1], true)
         .unwrap();
     layer
         .logic_mut()
-        .set_body_disabled(bodies[7], true)
+        .set_body_disabled(&world.bodies, bodies[7], true)
         .unwrap();
     for i in 0..60 {
         layer.step(&mut world);

@@ -137,7 +137,10 @@ fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
         )
         .unwrap();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     world.bodies[ball].sleep();
     for _ in 0..30 {
         layer.step(&mut world);

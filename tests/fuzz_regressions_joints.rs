@@ -119,8 +119,14 @@ fn fixed_a_removed_container_of_passive_bodies_leaves_its_group() {
     let j = world.insert_impulse_joint(a, b, FixedJointBuilder::new());
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(a, true).unwrap();
-    layer.logic_mut().set_body_disabled(b, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, b, true)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // The container is now a group of its own (its members, passive, are in none).
@@ -181,12 +187,18 @@ fn fixed_set_passive_on_a_multibody_member_is_refused() {
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
     for body in [root, link] {
-        match layer.logic_mut().set_body_disabled(body, true) {
+        match layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, body, true)
+        {
             Err(Error::Unsupported { .. }) => {}
             other => panic!("set_body_disabled(true) on a multibody member: {other:?}"),
         }
         // Making it active is always accepted (a no-op here).
-        layer.logic_mut().set_body_disabled(body, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, body, false)
+            .unwrap();
     }
     for _ in 0..5 {
         layer.step(&mut world);
@@ -208,7 +220,10 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25); // overlaps b
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(a, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
     let joint = chain_joint();
     world.insert_multibody_joint(a, b, joint).unwrap();
     layer.step(&mut world);
@@ -234,7 +249,10 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(a, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
     layer.step(&mut world);
     assert!(!world.bodies[a].is_enabled());
     let na = layer.graph().try_node_of_body(a).unwrap();
@@ -268,9 +286,15 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         }
         let mut layer = ContactLayer::new();
         layer.step(&mut world);
-        layer.logic_mut().set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
         if other_passive {
-            layer.logic_mut().set_body_disabled(other, true).unwrap();
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, other, true)
+                .unwrap();
         }
         layer.step(&mut world);
         // A joint between a passive body and a fixed (or passive) one, added by the
@@ -283,7 +307,10 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
         // Active again: Rapier enables the joint with the body (and a passive other
         // end has it disabled again at the next pre-step).
-        layer.logic_mut().set_body_disabled(passive, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, false)
+            .unwrap();
         for _ in 0..5 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -294,7 +321,10 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             !other_passive
         );
         if other_passive {
-            layer.logic_mut().set_body_disabled(other, false).unwrap();
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, other, false)
+                .unwrap();
             for _ in 0..5 {
                 layer.step(&mut world);
                 layer.validate(&world).unwrap();
@@ -309,9 +339,15 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             .unwrap()
             .data
             .set_enabled(false);
-        layer.logic_mut().set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
         layer.step(&mut world);
-        layer.logic_mut().set_body_disabled(passive, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, false)
+            .unwrap();
         layer.step(&mut world);
         assert!(!world.impulse_joints.get(k).unwrap().data.is_enabled());
         assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());
@@ -329,7 +365,10 @@ fn fixed_a_collider_added_to_a_passive_body_gets_no_edges() {
     );
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(cube, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, cube, true)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // A second collider on the passive body (Rapier enables it and pairs it with
@@ -417,7 +456,10 @@ fn fixed_a_new_fixed_body_jointed_to_a_passive_body_does_not_panic() {
     }
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(floor, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, floor, true)
+        .unwrap();
     layer.step(&mut world);
     let (post, _) = fixed_box_at(&mut world, [3.0, 1.0, 0.0], 0.4);
     world.bodies[floor].set_body_type(RigidBodyType::KinematicVelocityBased, true);
@@ -428,7 +470,10 @@ fn fixed_a_new_fixed_body_jointed_to_a_passive_body_does_not_panic() {
         layer.validate(&world).unwrap();
     }
     assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
-    layer.logic_mut().set_body_disabled(floor, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, floor, false)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());

@@ -200,9 +200,15 @@ fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
         layer.step(&mut world);
     }
     assert!(world.bodies[ball].is_sleeping()); // FellAsleep sent
-    layer.logic_mut().set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(ball, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, false)
+        .unwrap();
     for _ in 0..200 {
         layer.step(&mut world); // re-enabled awake, then asleep again
     }

@@ -232,7 +232,10 @@ fn fixed_a_sensor_on_a_passive_body_ends_its_edge_when_moved() {
     let (carrier, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
     let mut layer = widened_layer();
     layer.step(&mut world);
-    layer.logic_mut().set_body_disabled(carrier, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, carrier, true)
+        .unwrap();
     layer.step(&mut world);
     // A sensor added to the passive body, inside the floor.
     let sensor = world.insert_collider(ColliderBuilder::ball(0.8).sensor(true), Some(carrier));

@@ -92,7 +92,9 @@ fn bad_logical_input_is_an_error_and_changes_nothing() {
     ));
     let gone = RigidBodyHandle::from_raw_parts(77, 0);
     assert_eq!(
-        layer.logic_mut().set_body_disabled(gone, true),
+        layer
+            .logic_mut()
+            .set_body_disabled(&scene.world.bodies, gone, true),
         Err(Error::UnknownBody(gone))
     );
     assert!(layer.logic_mut().declare_composite_nodes(&[]).is_err());
@@ -194,7 +196,10 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
     let h = scene.body("ball").unwrap();
     let ball = layer.graph().try_node_of_body(h).unwrap();
     scene.world.bodies[h].user_data = 42;
-    layer.logic_mut().set_body_disabled(h, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, h, true)
+        .unwrap();
     common::run_validated(&mut scene, &mut layer, 80, 1);
     log.drain();
     log.passive.insert(ball);
@@ -209,7 +214,10 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
         "same node, same handle"
     );
     assert_eq!(scene.world.bodies[h].user_data, 42);
-    layer.logic_mut().set_body_disabled(h, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, h, false)
+        .unwrap();
     log.passive.clear();
     common::run_validated(&mut scene, &mut layer, 181, 100);
     log.drain();

@@ -47,7 +47,7 @@ fn scene() -> (PhysicsWorld, ContactLayer) {
     layer.logic_mut().add_timer(0.25).unwrap();
     layer
         .logic_mut()
-        .set_body_disabled(balls[11], true)
+        .set_body_disabled(&world.bodies, balls[11], true)
         .unwrap();
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
     layer.monitor_mut().set(MonitorMode::Report, c, r).unwrap();

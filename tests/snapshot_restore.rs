@@ -189,8 +189,11 @@ fn a_restored_layer_with_rules_timers_passive_bodies_and_containers_continues_bi
         t.run(80);
         // A logical change after the restore, on both sides: the passive body comes
         // back, a timer goes, a rule goes.
-        t.both(|_, layer| {
-            layer.logic_mut().set_body_disabled(sleeper, false).unwrap();
+        t.both(|world, layer| {
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, sleeper, false)
+                .unwrap();
         });
         t.run(40);
         t.both(|_, layer| {
@@ -292,7 +295,10 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
             .add_rule(Rule::ignore_pair(na, nb))
             .unwrap();
         layer.logic_mut().add_timer(0.1).unwrap();
-        layer.logic_mut().set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
     };
     let mut t = Twins::split_after(
         scenes::sphere_pile(30, 5),

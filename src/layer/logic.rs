@@ -6,7 +6,7 @@
 //! node ids. A rule, a timer and a composite are themselves nodes: their node id is
 //! their handle.
 
-use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, RigidBodySet};
 
 use crate::graph::{Category, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::logic::Rule;
@@ -387,7 +387,9 @@ impl LayerLogicMut<'_> {
     /// makes Rapier panic as it would without the layer. O(1).
     ///
     /// # Errors
-    /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
+    /// - [`Error::UnknownBody`] for a body `bodies` lacks (removed: at once, as every
+    ///   call that takes the world answers), [`Error::UnseenBody`] for one inserted
+    ///   since the last step, [`Error::ForeignWorld`] for a set of another world;
     /// - [`Error::Unsupported`] for `disabled = true` on a dynamic multibody member (a
     ///   `Link` node at the last analysis): Rapier 0.36 does not carry a disabled
     ///   multibody member and panics in its next step. The body is left as it is.
@@ -410,14 +412,19 @@ impl LayerLogicMut<'_> {
     /// );
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// layer.logic_mut().set_body_disabled(ball, true).unwrap();
+    /// layer.logic_mut().set_body_disabled(&world.bodies, ball, true).unwrap();
     /// layer.step(&mut world);
     /// let node = layer.node_of_body(&world.bodies, ball).unwrap(); // same node, same handle
     /// assert!(layer.graph().node(node).unwrap().is_body_disabled());
     /// assert_eq!(layer.graph().node(node).unwrap().degree(), 0);
     /// ```
-    pub fn set_body_disabled(&mut self, body: RigidBodyHandle, disabled: bool) -> Result<()> {
-        let node = self.layer.graph.try_node_of_body(body)?;
+    pub fn set_body_disabled(
+        &mut self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        disabled: bool,
+    ) -> Result<()> {
+        let node = self.layer.node_of_body(bodies, body)?;
         if disabled && self.layer.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
             return Err(Error::Unsupported {
                 what: "set_body_disabled(true) on a multibody link",

@@ -273,7 +273,10 @@ pub fn logic_scene() -> (Scene, ContactLayer, NodeId, RigidBodyHandle) {
         .logic_mut()
         .declare_composite_nodes(&[nb1, nb2])
         .unwrap();
-    layer.logic_mut().set_body_disabled(sleeper, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, sleeper, true)
+        .unwrap();
     let _ = nsleeper;
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
     layer.monitor_mut().set(MonitorMode::Report, c, r).unwrap();

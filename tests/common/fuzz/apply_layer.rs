@@ -60,7 +60,11 @@ impl Harness {
                         .and_then(|n| self.layer.graph().node(n))
                         .map(|n| n.kind())
                         == Some(NodeKind::Link);
-                    match self.layer.logic_mut().set_body_disabled(h, on) {
+                    match self
+                        .layer
+                        .logic_mut()
+                        .set_body_disabled(&self.world.bodies, h, on)
+                    {
                         Ok(()) if on && link => {
                             return Err(format!("set_body_disabled({h:?}, true) on a link: Ok"))
                         }
