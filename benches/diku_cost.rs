@@ -88,7 +88,7 @@ impl Runner {
         }
         self.cpu.push(t0.elapsed().as_secs_f64());
         if let (Some(layer), Some(monitor)) = (&self.layer, &mut self.monitor) {
-            let held = |h| layer.holds(&self.world.bodies, h);
+            let held = |h| layer.analysis().holds(&self.world.bodies, h);
             monitor.check(layer, &WorldView::from(&self.world), &held, &|_| false);
         }
         let moving = self
@@ -128,7 +128,7 @@ fn main() {
             std::process::exit(2);
         };
         let mut layer = ContactLayer::new();
-        if let Err(e) = layer.set_speedups(Some(SpeedUps::combination(bits))) {
+        if let Err(e) = layer.speedups_mut().set(Some(SpeedUps::combination(bits))) {
             eprintln!("diku_cost: {label}: {e}");
             std::process::exit(2);
         }

@@ -194,10 +194,11 @@ fn floor_of(scene: &str, held: &PhysicsWorld, layer: &ContactLayer) -> PhysicsWo
 fn held_layer(args: &Args) -> ContactLayer {
     let mut layer = ContactLayer::new();
     let speedups = config(&args.preset).expect("preset checked in main");
-    layer.set_speedups(speedups).expect("valid speed-ups");
+    layer.speedups_mut().set(speedups).expect("valid speed-ups");
     if args.monitor {
         layer
-            .set_monitor(
+            .monitor_mut()
+            .set(
                 MonitorMode::Repair,
                 MonitorConfig::default(),
                 RepairConfig::default(),
@@ -291,7 +292,7 @@ fn run(scene: &str, args: &Args) -> Run {
     }
     r.awake_end = [
         stock.islands.num_active_bodies(),
-        layer.stats().awake_bodies,
+        layer.analysis().stats().awake_bodies,
     ];
     r.fixated_end = layer.speedups().map_or(0, |s| s.fixated().count());
     r.parked_end = layer.speedups().map_or(0, |s| s.stats().parked);

@@ -236,10 +236,10 @@ fn run(scene: SceneArg, n: usize, args: &Args) -> Run {
         share_whole: share(all),
         share_settled: share(tail),
         identical: bit_identical(&plain, &layered),
-        touching_at_end: layer.coherence().tracking() == Tracking::Touching,
+        touching_at_end: layer.analysis().coherence().tracking() == Tracking::Touching,
         awake_plain: plain.islands.num_active_bodies(),
         awake_layered: layered.islands.num_active_bodies(),
-        edges: layer.stats().edges,
+        edges: layer.analysis().stats().edges,
         events,
     }
 }

@@ -8,7 +8,7 @@
 //!   `RigidBodyBuilder::sleeping(true)` and resting exactly on the ground;
 //! - `--sensors` (5,000) trigger volumes: sensor cuboids (2 × 1 × 2 m) on fixed bodies
 //!   scattered over the field, each holding a few resting bodies;
-//! - `--timers` (5,000) timers with periods 0.10 … 1.08 s (`ContactLayer::add_timer`);
+//! - `--timers` (5,000) timers with periods 0.10 … 1.08 s (`LayerLogicMut::add_timer`);
 //! - the movers that keep the scene churning:
 //!   - `--balls` (100) dynamic balls, re-launched every 2.5 s from 3 m above a random
 //!     point of the field with a random horizontal speed: they land on resting
@@ -57,7 +57,7 @@
 //! ```
 //! Options: `--bodies`, `--sensors`, `--timers`, `--balls`, `--sweepers`, `--steps`,
 //! `--warmup`, `--every` (numbers), `--no-events` (no subscription), `--no-details`
-//! (`ContactLayer::set_contact_details(false)`).
+//! (`LayerAnalysisMut::set_contact_details(false)`).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
@@ -569,9 +569,12 @@ fn main() {
     );
 
     let mut layer = ContactLayer::new();
-    layer.set_contact_details(args.details);
+    layer.analysis_mut().set_contact_details(args.details);
     for i in 0..args.timers {
-        layer.add_timer(0.10 + (i % 50) as f64 * 0.02).unwrap();
+        layer
+            .logic_mut()
+            .add_timer(0.10 + (i % 50) as f64 * 0.02)
+            .unwrap();
     }
     let rx = args.events.then(|| layer.subscribe(Filter::all()));
     let mut kinds = [0usize; EventKind::ALL.len()];
@@ -584,8 +587,9 @@ fn main() {
         }
     };
     let created_now = |layer: &ContactLayer| {
-        let now = layer.current_step();
+        let now = layer.analysis().current_step();
         layer
+            .analysis()
             .touched_edges()
             .filter(|(_, e)| e.created_step() == now)
             .count()

@@ -17,7 +17,7 @@ fn name(scene: &Scene, layer: &ContactLayer, n: NodeId) -> String {
     let h = layer.graph().body_of(n);
     match scene.bodies.iter().find(|(_, b)| Some(*b) == h) {
         Some((s, _)) => s.to_string(),
-        None => format!("{n}:{:?}", layer.kind_of(n).unwrap()),
+        None => format!("{n}:{:?}", layer.graph().node(n).unwrap().kind()),
     }
 }
 
@@ -43,14 +43,16 @@ fn main() {
     let mut hit = false;
     for step in 1..=100u64 {
         layer.step(&mut scene.world);
-        let wall = layer.node_of_body(scene.body("wall").unwrap()).unwrap();
+        let wall = layer
+            .node_of_body(&scene.world.bodies, scene.body("wall").unwrap())
+            .unwrap();
         if !hit && layer.graph().touching(wall).next().is_some() {
             hit = true;
             println!("== step {step}: the chain hits the wall");
             print_groups(&scene, &layer);
         }
     }
-    println!("== after {} steps", layer.current_step());
+    println!("== after {} steps", layer.analysis().current_step());
     for (m, node) in layer.graph().nodes_of_kind(NodeKind::Multibody) {
         let NodeSource::Container(ContainerSource::Multibody(root)) = node.source() else {
             continue;
@@ -62,7 +64,7 @@ fn main() {
         );
         for (other, e, edge) in layer.graph().neighbors(m) {
             if edge.kind() == EdgeKind::Structural {
-                let kind = layer.kind_of(other).unwrap();
+                let kind = layer.graph().node(other).unwrap().kind();
                 println!(
                     "  structural edge {e} -> {other} {kind:?} {}",
                     name(&scene, &layer, other)
@@ -70,10 +72,12 @@ fn main() {
             }
         }
     }
-    let anchor = layer.node_of_body(scene.body("anchor").unwrap()).unwrap();
+    let anchor = layer
+        .node_of_body(&scene.world.bodies, scene.body("anchor").unwrap())
+        .unwrap();
     println!(
         "anchor {anchor} is {:?}, edges {}: fixed bodies insulate, they join no container",
-        layer.kind_of(anchor).unwrap(),
+        layer.graph().node(anchor).unwrap().kind(),
         layer.graph().node(anchor).unwrap().degree()
     );
     print_groups(&scene, &layer);
@@ -88,7 +92,7 @@ fn main() {
         h
     });
     layer.step(&mut scene.world);
-    let nodes: [NodeId; 2] = boxes.map(|h| layer.node_of_body(h).unwrap());
+    let nodes: [NodeId; 2] = boxes.map(|h| layer.node_of_body(&scene.world.bodies, h).unwrap());
     // Groups are named by slot index here (their ids are generational).
     let report = |layer: &ContactLayer, what: &str| {
         let g = nodes.map(|n| layer.graph().node(n).unwrap().group());
@@ -100,11 +104,17 @@ fn main() {
         );
     };
     report(&layer, "boxes added");
-    let c = layer.declare_composite(&nodes).unwrap();
+    let c = layer
+        .logic_mut()
+        .declare_composite(&scene.world, &boxes)
+        .unwrap();
     layer.step(&mut scene.world);
     report(
         &layer,
-        &format!("declared composite {c} {:?}", layer.kind_of(c).unwrap()),
+        &format!(
+            "declared composite {c} {:?}",
+            layer.graph().node(c).unwrap().kind()
+        ),
     );
     print_groups(&scene, &layer);
     layer

@@ -107,7 +107,8 @@ fn main() {
     // The paper's speed-ups with fixation: bodies at rest end up held.
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             fixate: true,
             ..SpeedUps::contact_graph()
         }))

@@ -29,7 +29,9 @@ fn main() {
     ])));
     let mut gone = Some(layer.subscribe(Filter::all()));
     layer.step(&mut scene.world); // the nodes exist from here on
-    let b4 = layer.node_of_body(scene.body("b4").unwrap()).unwrap();
+    let b4 = layer
+        .node_of_body(&scene.world.bodies, scene.body("b4").unwrap())
+        .unwrap();
     let top = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[b4]));
     println!("4 subscriptions; top box b4 is node {b4}");
 
@@ -56,9 +58,9 @@ fn main() {
                  top: {received_top}; subscriptions {}, pruned {}",
                 step,
                 stats.events,
-                layer.event_bus().dropped(),
-                layer.event_bus().len(),
-                layer.event_bus().pruned(),
+                layer.analysis().event_bus().dropped(),
+                layer.analysis().event_bus().len(),
+                layer.analysis().event_bus().pruned(),
             );
         }
         if step == 50 {
@@ -69,8 +71,8 @@ fn main() {
         if step == 51 {
             println!(
                 "   step 51 ran: subscriptions {}, pruned {}",
-                layer.event_bus().len(),
-                layer.event_bus().pruned()
+                layer.analysis().event_bus().len(),
+                layer.analysis().event_bus().pruned()
             );
         }
     }
@@ -82,7 +84,7 @@ fn main() {
         .y;
     println!(
         "after {} steps: {} events delivered in all, top box at y = {top_y:.2}",
-        layer.current_step(),
-        layer.event_bus().sent()
+        layer.analysis().current_step(),
+        layer.analysis().event_bus().sent()
     );
 }

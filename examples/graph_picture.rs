@@ -88,7 +88,7 @@ fn picture(mut scene: Scene, steps: u64, path: &Path) -> std::io::Result<()> {
     };
     std::fs::write(path, to_dot(&layer, &options))?;
 
-    let s = layer.stats();
+    let s = layer.analysis().stats();
     let g = s.groups;
     println!(
         "{} after {} steps -> {}",

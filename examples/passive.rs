@@ -51,16 +51,22 @@ fn main() {
         .union(KindSet::SLEEP),
     ));
     layer.step(&mut scene.world);
-    let ball = layer.node_of_body(ball_body).unwrap();
+    let ball = layer.node_of_body(&scene.world.bodies, ball_body).unwrap();
     for step in 1..250u64 {
         match step {
             100 => {
                 show(&scene, &layer, ball, "before step 101:");
-                layer.set_body_disabled(ball_body, true).unwrap();
+                layer
+                    .logic_mut()
+                    .set_body_disabled(&scene.world.bodies, ball_body, true)
+                    .unwrap();
                 println!("-- set_body_disabled(ball, true)");
             }
             150 => {
-                layer.set_body_disabled(ball_body, false).unwrap();
+                layer
+                    .logic_mut()
+                    .set_body_disabled(&scene.world.bodies, ball_body, false)
+                    .unwrap();
                 println!("-- set_body_disabled(ball, false)");
             }
             _ => {}

@@ -1,5 +1,5 @@
 //! Rules: "ignore this pair". Box `top` rests on box `bottom`; at step 100 a rule
-//! `Rule::ignore_pair(bottom, top)` makes Rapier ignore the pair, so `top` falls
+//! `layer.logic_mut().ignore_pair(&world, bottom, top)` makes Rapier ignore the pair, so `top` falls
 //! through `bottom` onto the ground; at step 200 the rule is removed and the two,
 //! now overlapping, interact again (Rapier pushes them apart).
 //!
@@ -9,7 +9,7 @@
 
 use rapier_contact_graph::rapier3d::math::Vector;
 use rapier_contact_graph::rapier3d::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder};
-use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet, Rule};
+use rapier_contact_graph::{ContactLayer, EventKind, Filter, KindSet};
 
 fn main() {
     let mut world = PhysicsWorld::new();
@@ -44,21 +44,17 @@ fn main() {
     let mut rule = None;
     for step in 0..300u64 {
         if step == 100 {
-            let (b, t) = (
-                layer.node_of_body(bottom).unwrap(),
-                layer.node_of_body(top).unwrap(),
-            );
-            let r = layer.add_rule(Rule::ignore_pair(b, t)).unwrap();
+            let r = layer.logic_mut().ignore_pair(&world, bottom, top).unwrap();
             println!(
                 "-- before step {}: add rule {r} = {:?}; top y = {:.2}",
                 step + 1,
-                layer.rule(r).unwrap(),
+                layer.logic().rule(r).unwrap(),
                 top_y(&world),
             );
             rule = Some(r);
         }
         if step == 200 {
-            let r = layer.remove_rule(rule.take().unwrap()).unwrap();
+            let r = layer.logic_mut().remove_rule(rule.take().unwrap()).unwrap();
             println!(
                 "-- before step {}: remove rule {r:?}; top y = {:.2}",
                 step + 1,
@@ -67,7 +63,7 @@ fn main() {
         }
         layer.step(&mut world);
         if step == 100 {
-            let n = layer.flagged_colliders();
+            let n = layer.analysis().flagged_colliders();
             println!("   (hook flags set in step 101's pre-step on {n} colliders)");
         }
         for ev in touches.try_iter() {
@@ -92,6 +88,6 @@ fn main() {
         b.y,
         t.x,
         t.y,
-        layer.flagged_colliders()
+        layer.analysis().flagged_colliders()
     );
 }

@@ -37,7 +37,7 @@ fn main() {
     }
     let mut scene = scenes::sphere_pile(spheres, 1);
     let mut layer = ContactLayer::new();
-    layer.set_contact_details(details);
+    layer.analysis_mut().set_contact_details(details);
     let (mut rapier_t, mut layer_t) = (Duration::ZERO, Duration::ZERO);
     println!(
         "{:>5} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>8} {:>7} {:>7}",

@@ -12,12 +12,12 @@ use rcg_scenes as scenes;
 fn main() {
     let mut scene = scenes::ball_on_box();
     let mut layer = ContactLayer::new();
-    let timer = layer.add_timer(0.5).expect("a positive period");
+    let timer = layer.logic_mut().add_timer(0.5).expect("a positive period");
     let ticks = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::TimerTick])));
     println!(
         "timer node {timer}: kind {:?}, period {} s",
-        layer.kind_of(timer).unwrap(),
-        layer.timer_period(timer).unwrap()
+        layer.graph().node(timer).unwrap().kind(),
+        layer.logic().timer_period(timer).unwrap()
     );
 
     let steps = (3.0 / scenes::DT as f64).round() as u64;
@@ -30,7 +30,7 @@ fn main() {
             println!(
                 "step {:>3}  t = {:.2} s  tick {}  (ball y = {:.3})",
                 ev.step,
-                layer.simulated_time(),
+                layer.logic().simulated_time(),
                 ev.tick,
                 ball.y
             );
@@ -38,13 +38,13 @@ fn main() {
     }
     println!(
         "{} steps, {:.2} simulated seconds: {} ticks",
-        layer.current_step(),
-        layer.simulated_time(),
-        layer.timer_ticks(timer).unwrap()
+        layer.analysis().current_step(),
+        layer.logic().simulated_time(),
+        layer.logic().timer_ticks(timer).unwrap()
     );
-    layer.remove_timer(timer).unwrap();
+    layer.logic_mut().remove_timer(timer).unwrap();
     println!(
         "timer removed; its id is now stale: {:?}",
-        layer.timer_ticks(timer).err()
+        layer.logic().timer_ticks(timer).err()
     );
 }

@@ -44,7 +44,9 @@ fn main() {
 
     // The first step makes the nodes; then the ball's node can be named in a filter.
     layer.step(&mut scene.world);
-    let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
+    let ball = layer
+        .node_of_body(&scene.world.bodies, scene.body("ball").unwrap())
+        .unwrap();
     let touches = layer.subscribe(
         Filter::kinds(KindSet::of(&[
             EventKind::ContactStarted,
@@ -52,7 +54,9 @@ fn main() {
         ]))
         .with_nodes(&[ball]),
     );
-    let trigger_body = layer.node_of_body(scene.body("trigger").unwrap()).unwrap();
+    let trigger_body = layer
+        .node_of_body(&scene.world.bodies, scene.body("trigger").unwrap())
+        .unwrap();
     for (id, node) in layer
         .graph()
         .nodes_of_kind(rapier_contact_graph::NodeKind::Sensor)
@@ -82,7 +86,7 @@ fn main() {
     let p = scene.world.bodies[scene.body("ball").unwrap()].translation();
     println!(
         "after {} steps: {enters} enter, {exits} exit; ball at ({:.2}, {:.2}, {:.2})",
-        layer.current_step(),
+        layer.analysis().current_step(),
         p.x,
         p.y,
         p.z

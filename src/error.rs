@@ -18,11 +18,22 @@ pub enum Error {
     StaleNode(NodeId),
     /// The edge id names a slot that was freed or reused since.
     StaleEdge(EdgeId),
-    /// The body has no node: it was removed, never inserted in the Rapier world, or
-    /// inserted after the layer's last update.
+    /// The world has no such body (it was removed, or never inserted), or, where no
+    /// world is passed (the graph's `try_node_of_body`), the last analysed step had
+    /// none.
     UnknownBody(RigidBodyHandle),
-    /// The collider has no node (only parentless colliders have their own node).
+    /// The world has no such collider (removed, or never inserted), or, where no
+    /// world is passed, the collider has no node (only sensors and parentless
+    /// colliders have their own node).
     UnknownCollider(ColliderHandle),
+    /// The body is in the world but the layer has not seen it yet: it was inserted
+    /// since the last step, and has a node from the next one. Queries that can answer
+    /// for it answer empty instead; this is the error of calls that need its node.
+    UnseenBody(RigidBodyHandle),
+    /// The collider is in the world but the layer has not seen it yet: a sensor or
+    /// parentless collider inserted since the last step, or a collider of a body
+    /// inserted since; it has a node (or its body has) from the next step.
+    UnseenCollider(ColliderHandle),
     /// The collider exists but is not a sensor (a sensor query was asked of it).
     NotASensor(ColliderHandle),
     /// The body set, collider set or world passed to a query is not the one the layer
@@ -118,9 +129,22 @@ impl fmt::Display for Error {
             Error::StaleEdge(e) => write!(f, "edge {e:?} was removed (stale id)"),
             Error::UnknownBody(h) => write!(
                 f,
-                "rigid body {h:?} has no node (removed, or not seen by the layer yet)"
+                "rigid body {h:?} is not in the world (removed, or never inserted); asked \
+                 without the world, it had no node at the layer's last step"
             ),
-            Error::UnknownCollider(h) => write!(f, "collider {h:?} has no node"),
+            Error::UnknownCollider(h) => write!(
+                f,
+                "collider {h:?} is not in the world (removed, or never inserted); asked \
+                 without the world, it had no node of its own at the layer's last step"
+            ),
+            Error::UnseenBody(h) => write!(
+                f,
+                "rigid body {h:?} was inserted since the layer's last step: it has a node from the next step"
+            ),
+            Error::UnseenCollider(h) => write!(
+                f,
+                "collider {h:?} was inserted since the layer's last step: it has a node from the next step"
+            ),
             Error::NotASensor(h) => write!(f, "collider {h:?} is not a sensor"),
             Error::ForeignWorld => f.write_str(
                 "the set or world passed is not the one the layer last analysed (another \

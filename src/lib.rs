@@ -47,7 +47,7 @@
 //! collider), [`sensors_containing`](ContactLayer::sensors_containing) (which sensors
 //! a body is in), and `SensorStarted` / `SensorStopped` events naming the sensor's
 //! collider. Sensors see what Rapier's own sensor collision types give;
-//! [`ContactLayer::set_trigger_widening`] opts in to the paper's triggers, which see
+//! [`LayerLogicMut::set_trigger_widening`](crate::LayerLogicMut::set_trigger_widening) opts in to the paper's triggers, which see
 //! bodies of every type (a sensor on a fixed body sees fixed bodies too), and says
 //! what that changes.
 //!
@@ -55,9 +55,9 @@
 //! Bodies that touch, directly or through others, form a contact group; fixed and
 //! kinematic bodies do not join groups (the report's Figs. 7–8):
 //! [`group_of_body`](ContactLayer::group_of_body), [`ContactLayer::groups`]. With the
-//! speed-ups ([`ContactLayer::set_speedups`], [`speedups::SpeedUps`]) a group at rest
+//! speed-ups ([`SpeedUpsMut::set`](crate::SpeedUpsMut::set), [`speedups::SpeedUps`]) a group at rest
 //! is put to sleep or held still as a whole, which settles piles that Rapier leaves
-//! awake; the monitor ([`ContactLayer::set_monitor`]) finds and repairs what that
+//! awake; the monitor ([`MonitorMut::set`](crate::MonitorMut::set)) finds and repairs what that
 //! breaks (a body left hanging, a launch, deep penetration).
 //!
 //! # Events
@@ -102,7 +102,7 @@
 //! | `ActiveEvents` on a collider | a [`Filter`] with [`Filter::with_bodies`] / [`Filter::with_colliders`] |
 //! | islands (`IslandManager`) | contact groups ([`ContactLayer::group_of_body`]): fixed and kinematic bodies insulate |
 //! | dynamic / kinematic / fixed body, sensor collider | node kinds [`NodeKind::Dynamic`] / [`NodeKind::Kinematic`] / [`NodeKind::Fixed`], [`NodeKind::Sensor`] |
-//! | `RigidBody::set_enabled(false)` (a disabled body) | [`ContactLayer::set_body_disabled`] (guarded against Rapier's panics), [`Node::is_body_disabled`] |
+//! | `RigidBody::set_enabled(false)` (a disabled body) | [`LayerLogicMut::set_body_disabled`](crate::LayerLogicMut::set_body_disabled) (guarded against Rapier's panics), [`Node::is_body_disabled`] |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
 //!
 //! # The paper's terms
@@ -118,15 +118,12 @@
 //! | composite (C), multibody (M) | [`NodeKind::Composite`], [`NodeKind::Multibody`] | bodies joined by fixed joints; a multibody or jointed articulation |
 //! | logical rule (A), timer (T) | [`NodeKind::Rule`], [`NodeKind::Timer`] | — |
 //! | trigger volume (V) | [`NodeKind::Sensor`] | a sensor collider |
-//! | passive body (§3.2) | [`ContactLayer::set_body_disabled`], [`Node::is_body_disabled`] | a disabled body (`RigidBody::set_enabled(false)`) |
+//! | passive body (§3.2) | [`LayerLogicMut::set_body_disabled`](crate::LayerLogicMut::set_body_disabled), [`Node::is_body_disabled`] | a disabled body (`RigidBody::set_enabled(false)`) |
 //! | touch begin / persist / end (Table 3) | [`EventKind::ContactStarted`] / [`EventKind::ContactPersisted`] / [`EventKind::ContactStopped`] | `CollisionEvent::Started` / `Stopped` of a contact pair |
 //! | proximity begin / persist / end | [`EventKind::ProximityStarted`] / [`EventKind::ProximityPersisted`] / [`EventKind::ProximityStopped`] | a narrow-phase pair appearing / kept / removed |
 //! | trigger enter / exit | [`EventKind::SensorStarted`] / [`EventKind::SensorStopped`] | `CollisionEvent::Started` / `Stopped` with a sensor |
 //! | the pair's nodes *A*, *B* | [`Event::node1`] / [`Event::node2`] (handles: [`Event::body1`] / [`Event::body2`], [`Event::collider1`] / [`Event::collider2`]) | `collider1` / `collider2` |
 //! | contact group (Figs. 7–8) | [`Group`], [`ContactLayer::group_of_body`] | Rapier's islands, roughly |
-//!
-//! Some of the paper's names remain as deprecated aliases, and data serialised with
-//! them still loads; `CHANGELOG.md` lists them.
 //!
 //! # The report's sections, for readers of the paper
 //! - [`graph`]: nodes (Table 1), edges (Table 2), ids, the per-edge cache;
@@ -155,25 +152,6 @@
 
 #![warn(missing_docs)]
 
-/// Deprecated associated consts of `$ty`, one per name of 0.1 (the paper's) that
-/// Rapier's vocabulary replaced: `Old => New, "note";` makes `$ty::Old` an alias of
-/// `$ty::New` (a variant or a const), usable in expressions and, for enums deriving
-/// `PartialEq` and `Eq`, in match patterns. The note is a literal: `deprecated` takes
-/// no macro call.
-macro_rules! renamed_consts {
-    ($ty:ident: $($old:ident => $new:ident, $note:literal;)+) => {
-        /// The names of 0.1, kept as deprecated aliases of Rapier's.
-        #[allow(non_upper_case_globals)]
-        impl $ty {
-            $(
-                #[doc = concat!("Renamed to [`", stringify!($ty), "::", stringify!($new), "`].")]
-                #[deprecated(since = "0.2.0", note = $note)]
-                pub const $old: $ty = $ty::$new;
-            )+
-        }
-    };
-}
-
 pub mod coherence;
 #[cfg(feature = "debug-render")]
 pub mod debug_render;
@@ -201,7 +179,10 @@ pub use graph::{
     NodeSource, PairKey, Transition,
 };
 pub use groups::{Group, GroupId, GroupStats, Groups};
-pub use layer::{ContactLayer, StepStats, Touching};
+pub use layer::{
+    ContactLayer, LayerAnalysis, LayerAnalysisMut, LayerLogic, LayerLogicMut, MonitorMut,
+    RuleMember, SpeedUpsMut, StepStats, Touching,
+};
 pub use logic::hooks::{HooksView, HooksWith};
 pub use logic::{Rule, WorldMut};
 #[cfg(feature = "serde")]

@@ -56,8 +56,8 @@
 //!
 //! # What a snapshot holds, and what it cannot
 //! Everything the layer would read in a later step, per-step outputs included (so
-//! [`ContactLayer::last_events`], [`ContactLayer::touched_edges`] and
-//! [`ContactLayer::stats`] read the same after a restore), with two exceptions:
+//! [`ContactLayer::last_events`], [`LayerAnalysis::touched_edges`](crate::LayerAnalysis::touched_edges) and
+//! [`LayerAnalysis::stats`](crate::LayerAnalysis::stats) read the same after a restore), with two exceptions:
 //! - **Subscriptions.** A crossbeam `Sender` cannot be serialised: a restored layer
 //!   has no subscribers, and the user subscribes again. The bus's counters are kept,
 //!   so subscription ids are never issued twice. Events generated after the restore
@@ -135,13 +135,6 @@
 //! edge without contact points has a closest distance of `f32::INFINITY`: `serde_json`
 //! writes it as `null` and then refuses to read it back ("invalid type: null,
 //! expected f32", seen on a 20-sphere pile), so it fails on nearly every layer.
-//!
-//! The renames of 0.2 to Rapier's names (node kinds `Rigid` / `Scripted` / `Trigger`
-//! → `Dynamic` / `Kinematic` / `Sensor`, `GroupStats::groups` → `count`, and the
-//! event kinds and fields) do not change [`SNAPSHOT_FORMAT`]: bincode encodes variants
-//! and fields by index, so its bytes are the same, and self-describing formats (CBOR,
-//! say) written with the old names still load through serde aliases
-//! (`tests/serde_old_names.rs`).
 //!
 //! # Cost
 //! - [`ContactLayer::snapshot`]: a copy of the state, O(nodes + edges + groups + rules
@@ -424,7 +417,7 @@ impl ContactLayer {
         let view = world.into();
         LayerSnapshot {
             world: WorldStamp::of(&view),
-            in_step: self.validate_view(&view).is_ok(),
+            in_step: self.validate(&view).is_ok(),
             state: self.to_state(),
         }
     }
@@ -486,8 +479,8 @@ impl ContactLayer {
     /// let (ball, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.5));
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// let node = layer.node_of_body(ball).unwrap();
-    /// let rule = layer.add_rule(Rule::ignore_if(&[node], |_, _| true)).unwrap();
+    /// let node = layer.node_of_body(&world.bodies, ball).unwrap();
+    /// let rule = layer.logic_mut().add_rule(Rule::ignore_if(&[node], |_, _| true)).unwrap();
     /// let snap = layer.snapshot(&world);
     ///
     /// assert_eq!(ContactLayer::restore(&snap, &world).unwrap_err(), Error::UnboundPredicate(rule));
@@ -496,7 +489,7 @@ impl ContactLayer {
     ///     (n == rule).then(|| ghost.clone())
     /// })
     /// .unwrap();
-    /// assert!(restored.rule(rule).unwrap().ignores(node, node));
+    /// assert!(restored.logic().rule(rule).unwrap().ignores(node, node));
     /// ```
     pub fn restore_with<'w>(
         snapshot: &LayerSnapshot,
@@ -532,7 +525,7 @@ impl ContactLayer {
         // pairs).
         if snapshot.in_step {
             layer
-                .validate_view(&view)
+                .validate(&view)
                 .map_err(|e| Error::Invariant(format!("snapshot does not match the world: {e}")))?;
         }
         Ok(layer)

@@ -28,7 +28,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
     let graph = layer.graph();
     graph.validate()?;
     // Nothing analysed yet: no graph to hold against the world.
-    if layer.current_step() == 0 {
+    if layer.analysis().current_step() == 0 {
         return Ok(());
     }
     let check = Check {
@@ -151,7 +151,8 @@ impl Check<'_> {
         let (layer, graph, view) = (self.layer, self.graph, self.view);
         // Touching tracking keeps touching edges only, each counting its touching collider
         // pairs.
-        let touching_only = layer.coherence().tracking() == crate::coherence::Tracking::Touching;
+        let touching_only =
+            layer.analysis().coherence().tracking() == crate::coherence::Tracking::Touching;
         let mut touching_counts: HashMap<PairKey, u32, PairBuildHasher> = HashMap::default();
         let mut rapier_pairs: HashMap<PairKey, bool, PairBuildHasher> = HashMap::default();
         for pair in view.narrow_phase.contact_pairs() {
@@ -343,7 +344,7 @@ impl Check<'_> {
         // Each group as a from-scratch traversal would build it (members pointing back,
         // edges, insulators, counts, sleep, connectivity; no joining edge between two).
         groups
-            .verify(graph, &|n| layer.insulates(n))
+            .verify(graph, &|n| layer.analysis().insulates(n))
             .map_err(Error::Invariant)?;
         let mut pointing: HashMap<crate::GroupId, usize, PairBuildHasher> = HashMap::default();
         for (id, node) in graph.nodes() {
@@ -352,7 +353,7 @@ impl Check<'_> {
                 && node.is_awake()
                 && !node.is_body_disabled()
                 && node.group().is_none()
-                && !layer.insulates(id)
+                && !layer.analysis().insulates(id)
             {
                 return fail(format!("awake body {id:?} has no group"));
             }

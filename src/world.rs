@@ -61,6 +61,20 @@ impl<'a> From<&'a PhysicsWorld> for WorldView<'a> {
     }
 }
 
+impl<'a> From<&'a mut PhysicsWorld> for WorldView<'a> {
+    fn from(w: &'a mut PhysicsWorld) -> Self {
+        Self::from(&*w)
+    }
+}
+
+/// A view given by reference (it is `Copy`): the calls taking `impl Into<WorldView>`
+/// accept `&view` as they accept `&world`.
+impl<'a> From<&WorldView<'a>> for WorldView<'a> {
+    fn from(v: &WorldView<'a>) -> Self {
+        *v
+    }
+}
+
 /// Whether a body has any velocity at all (a scripted body that moves cannot hold a
 /// body still). O(1).
 #[inline]

@@ -14,7 +14,7 @@ use common::build::*;
 fn subscribe_with_stale_or_foreign_nodes_matches_nothing() {
     let (mut world, ground, ball, mut layer) = stepped(0);
     let (stale, _) = stale_node(&mut layer, &mut world);
-    let [next_gen, far, _] = foreign_nodes(layer.node_of_body(ball).unwrap());
+    let [next_gen, far, _] = foreign_nodes(layer.graph().try_node_of_body(ball).unwrap());
     // Accepted (subscribe cannot fail); such a filter never matches, as the node can
     // never come back (ids are generational).
     let rx = layer.subscribe(Filter::all().with_nodes(&[stale, next_gen, far]));
@@ -42,14 +42,14 @@ fn subscribe_bounded_zero_capacity_is_an_error() {
             ..
         })
     ));
-    assert_eq!(layer.event_bus().len(), 0, "nothing subscribed");
+    assert_eq!(layer.analysis().event_bus().len(), 0, "nothing subscribed");
     let rx = layer.subscribe_bounded(Filter::all(), 1).unwrap();
     let (mut world, _, _) = ball_on_ground();
     for _ in 0..50 {
         layer.step(&mut world);
     }
     assert_eq!(rx.try_iter().count(), 1, "the newest are dropped");
-    assert!(layer.event_bus().dropped() > 0);
+    assert!(layer.analysis().event_bus().dropped() > 0);
 }
 
 #[test]
@@ -90,12 +90,12 @@ fn unsubscribe_and_dropped_receivers() {
             layer.step(&mut world);
         }
     });
-    assert_eq!(layer.event_bus().pruned(), 1);
-    assert_eq!(layer.event_bus().dropped_for(id), None, "gone");
+    assert_eq!(layer.analysis().event_bus().pruned(), 1);
+    assert_eq!(layer.analysis().event_bus().dropped_for(id), None, "gone");
     assert!(!layer.unsubscribe(id), "already pruned");
     assert!(layer.unsubscribe(id2));
     assert!(!layer.unsubscribe(id2), "twice");
-    assert_eq!(layer.event_bus().dropped_for(id2), None);
+    assert_eq!(layer.analysis().event_bus().dropped_for(id2), None);
     // A foreign id (another layer's) names this layer's subscription with the same
     // number: ids carry no layer identity (aliasing, undetectable).
     let mut other = ContactLayer::new();

@@ -83,7 +83,7 @@ fn graph_collider_lookups_with_bad_handles() {
 fn graph_body_of_with_bad_ids() {
     let (mut world, _, ball, mut layer) = stepped(2);
     let (stale, _) = stale_node(&mut layer, &mut world);
-    let t = layer.add_timer(1.0).unwrap();
+    let t = layer.logic_mut().add_timer(1.0).unwrap();
     let g = layer.graph();
     let b = g.node_of_body(ball).unwrap();
     for n in [stale].into_iter().chain(foreign_nodes(b)) {
@@ -105,8 +105,8 @@ fn graph_edge_lookups_with_bad_ids() {
     let e = layer
         .graph()
         .edge_between(
-            layer.node_of_body(ground).unwrap(),
-            layer.node_of_body(h).unwrap(),
+            layer.graph().try_node_of_body(ground).unwrap(),
+            layer.graph().try_node_of_body(h).unwrap(),
         )
         .unwrap();
     world.remove_body(h);

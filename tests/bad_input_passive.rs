@@ -18,23 +18,47 @@ fn set_passive_with_stale_foreign_and_removed_bodies() {
     let (mut world, _, ball, mut layer) = stepped(2);
     let (_, removed) = stale_node(&mut layer, &mut world);
     assert_eq!(
-        layer.set_body_disabled(removed, true),
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, removed, true),
         Err(Error::UnknownBody(removed))
     );
     for f in foreign_bodies(ball) {
-        assert_eq!(layer.set_body_disabled(f, true), Err(Error::UnknownBody(f)));
+        assert_eq!(
+            layer.logic_mut().set_body_disabled(&world.bodies, f, true),
+            Err(Error::UnknownBody(f))
+        );
     }
-    // Removed from the world but not analysed yet (wrong time): the layer cannot know;
-    // accepted and a no-op, the node goes at the next analysis.
-    layer.set_body_disabled(ball, true).unwrap();
-    layer.set_body_disabled(ball, false).unwrap();
-    world.remove_body(ball);
-    layer.set_body_disabled(ball, true).unwrap();
-    no_panic("passive on a removed body", || layer.step(&mut world));
+    // Another world's set, even where the handle is valid in it.
+    let other = foreign_world(3);
     assert_eq!(
-        layer.set_body_disabled(ball, false),
-        Err(Error::UnknownBody(ball))
+        layer
+            .logic_mut()
+            .set_body_disabled(&other.bodies, ball, true),
+        Err(Error::ForeignWorld)
     );
+    // Queued, then removed from the world before the pre-step (wrong time): the
+    // pre-step skips it.
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
+    world.remove_body(ball);
+    no_panic("passive on a removed body", || layer.step(&mut world));
+    // Removed and not analysed yet: refused at once, as every call taking the world
+    // answers, and the same after the step.
+    let (spare, _) = ball_at(&mut world, [3.0, 1.0, 0.0], 0.5);
+    layer.step(&mut world);
+    world.remove_body(spare);
+    for _ in 0..2 {
+        for h in [ball, spare] {
+            assert_eq!(
+                layer.logic_mut().set_body_disabled(&world.bodies, h, false),
+                Err(Error::UnknownBody(h))
+            );
+        }
+        layer.step(&mut world);
+    }
     layer.validate(&world).unwrap();
 }
 
@@ -55,7 +79,7 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
     // At the call: a `Link` node (the root and the link) is refused, nothing changes.
     for h in [root, link] {
         assert!(matches!(
-            layer.set_body_disabled(h, true),
+            layer.logic_mut().set_body_disabled(&world.bodies, h, true),
             Err(Error::Unsupported { .. })
         ));
     }
@@ -65,9 +89,12 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
         }
     });
     assert!(world.bodies[root].is_enabled() && world.bodies[link].is_enabled());
-    assert!(layer.refusals().is_empty());
+    assert!(layer.logic().refusals().is_empty());
     // Wrong time: joined to the multibody between `set_body_disabled` and the pre-step.
-    layer.set_body_disabled(spare, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, spare, true)
+        .unwrap();
     world
         .insert_multibody_joint(link, spare, chain_joint())
         .unwrap();
@@ -75,14 +102,23 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
         layer.step(&mut world)
     });
     assert!(world.bodies[spare].is_enabled());
-    assert_eq!(layer.refusals().len(), 1);
-    assert_eq!(layer.refusals()[0].0, spare);
-    assert!(matches!(layer.refusals()[0].1, Error::Unsupported { .. }));
+    assert_eq!(layer.logic().refusals().len(), 1);
+    assert_eq!(layer.logic().refusals()[0].0, spare);
+    assert!(matches!(
+        layer.logic().refusals()[0].1,
+        Error::Unsupported { .. }
+    ));
     layer.validate(&world).unwrap();
     no_panic("the next step", || layer.step(&mut world));
-    assert!(layer.refusals().is_empty(), "cleared by every pre-step");
+    assert!(
+        layer.logic().refusals().is_empty(),
+        "cleared by every pre-step"
+    );
     // Making a member active is always accepted.
-    layer.set_body_disabled(root, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, root, false)
+        .unwrap();
     no_panic("set_body_disabled(false) on a member", || {
         layer.step(&mut world)
     });
@@ -92,7 +128,10 @@ fn rapier_panics_set_passive_on_a_multibody_member_is_refused() {
 #[test]
 fn rapier_panics_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     let (mut world, mut layer, [_, _, spare]) = multibody_scene();
-    layer.set_body_disabled(spare, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, spare, true)
+        .unwrap();
     layer.step(&mut world);
     assert!(!world.bodies[spare].is_enabled());
     // The user makes the passive body the root of a new multibody whose link rests on
@@ -117,7 +156,10 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
         ball_at(&mut world, [x, 1.0, 0.0], 0.5);
     }
     layer.step(&mut world);
-    layer.set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     layer.step(&mut world);
     // Joints added by the user to the passive body: to the fixed ground, and to a new
     // fixed body (Rapier enables the `DisabledByAttachedBody` joints of a body it
@@ -138,7 +180,10 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
     let enabled = |w: &PhysicsWorld, j| w.impulse_joints.get(j).unwrap().data.is_enabled();
     assert!(!enabled(&world, j1) && !enabled(&world, j2) && !enabled(&world, j3));
     // Active again: the layer's joints come back, the user's stays disabled.
-    layer.set_body_disabled(ball, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, false)
+        .unwrap();
     no_panic("steps after set_body_disabled(false)", || {
         for _ in 0..3 {
             layer.step(&mut world);
@@ -147,14 +192,20 @@ fn rapier_panics_joints_of_passive_bodies_are_held_disabled() {
     });
     assert!(enabled(&world, j1) && enabled(&world, j2) && !enabled(&world, j3));
     // Another world handed to the pre-step loses nothing.
-    layer.set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     layer.step(&mut world);
     assert!(!enabled(&world, j1));
     let mut other = PhysicsWorld::new();
     no_panic("pre_step on another world", || {
         layer.pre_step(WorldMut::from(&mut other))
     });
-    layer.set_body_disabled(ball, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, false)
+        .unwrap();
     layer.step(&mut world);
     assert!(enabled(&world, j1), "still held, enabled again");
 }
@@ -166,7 +217,8 @@ fn rapier_panics_a_deferred_fixation_is_checked_again_when_applied() {
     let (link, _) = ball_at(&mut world, [2.0, 1.0, 0.0], 0.5);
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             fixate: true,
             ..SpeedUps::contact_graph()
         }))

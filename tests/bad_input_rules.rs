@@ -16,10 +16,10 @@ fn add_rule_refuses_unknown_nodes() {
     let (mut world, ground, ball, mut layer) = stepped(0);
     let (stale, _) = stale_node(&mut layer, &mut world);
     let (g, b) = (
-        layer.node_of_body(ground).unwrap(),
-        layer.node_of_body(ball).unwrap(),
+        layer.graph().try_node_of_body(ground).unwrap(),
+        layer.graph().try_node_of_body(ball).unwrap(),
     );
-    let timer = layer.add_timer(1.0).unwrap();
+    let timer = layer.logic_mut().add_timer(1.0).unwrap();
     let before = fingerprint(&layer);
     type Want = fn(&Error) -> bool;
     let cases: Vec<(Rule, Want)> = vec![
@@ -43,20 +43,23 @@ fn add_rule_refuses_unknown_nodes() {
         }),
     ];
     for (rule, want) in cases {
-        let r = layer.add_rule(rule.clone());
+        let r = layer.logic_mut().add_rule(rule.clone());
         assert!(r.as_ref().is_err_and(want), "{rule:?}: {r:?}");
         assert_eq!(fingerprint(&layer), before, "{rule:?} changed nothing");
     }
     // A pair of one node, and repeats: accepted (members are deduplicated).
-    let r = layer.add_rule(Rule::ignore_between(&[b, b], &[b])).unwrap();
-    assert_eq!(layer.rule(r).unwrap().members(), vec![b]);
+    let r = layer
+        .logic_mut()
+        .add_rule(Rule::ignore_between(&[b, b], &[b]))
+        .unwrap();
+    assert_eq!(layer.logic().rule(r).unwrap().members(), vec![b]);
     // A member removed from the world later: the rule stays and can be removed.
-    let r2 = layer.add_rule(Rule::ignore_pair(g, b)).unwrap();
+    let r2 = layer.logic_mut().add_rule(Rule::ignore_pair(g, b)).unwrap();
     world.remove_body(ball);
     layer.step(&mut world);
     layer.validate(&world).unwrap();
-    layer.remove_rule(r2).unwrap();
-    layer.remove_rule(r).unwrap();
+    layer.logic_mut().remove_rule(r2).unwrap();
+    layer.logic_mut().remove_rule(r).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
 }
@@ -65,24 +68,30 @@ fn add_rule_refuses_unknown_nodes() {
 fn remove_rule_and_rule_with_stale_ids() {
     let (mut world, ground, ball, mut layer) = stepped(2);
     let (g, b) = (
-        layer.node_of_body(ground).unwrap(),
-        layer.node_of_body(ball).unwrap(),
+        layer.graph().try_node_of_body(ground).unwrap(),
+        layer.graph().try_node_of_body(ball).unwrap(),
     );
-    let r = layer.add_rule(Rule::ignore_pair(g, b)).unwrap();
+    let r = layer.logic_mut().add_rule(Rule::ignore_pair(g, b)).unwrap();
     layer.step(&mut world);
-    layer.remove_rule(r).unwrap();
+    layer.logic_mut().remove_rule(r).unwrap();
     assert_eq!(
-        layer.remove_rule(r).map(|_| ()),
+        layer.logic_mut().remove_rule(r).map(|_| ()),
         Err(Error::StaleNode(r)),
         "twice"
     );
-    assert!(layer.rule(r).is_none());
+    assert!(layer.logic().rule(r).is_none());
     for f in foreign_nodes(b) {
-        assert_eq!(layer.remove_rule(f).map(|_| ()), Err(Error::StaleNode(f)));
-        assert!(layer.rule(f).is_none());
+        assert_eq!(
+            layer.logic_mut().remove_rule(f).map(|_| ()),
+            Err(Error::StaleNode(f))
+        );
+        assert!(layer.logic().rule(f).is_none());
     }
-    assert!(matches!(layer.remove_rule(b), Err(Error::WrongKind { .. })));
-    assert!(layer.rule(b).is_none(), "not a rule");
+    assert!(matches!(
+        layer.logic_mut().remove_rule(b),
+        Err(Error::WrongKind { .. })
+    ));
+    assert!(layer.logic().rule(b).is_none(), "not a rule");
     layer.step(&mut world);
     layer.validate(&world).unwrap();
 }
@@ -105,9 +114,10 @@ fn rule_values_with_stale_nodes() {
 // Fixed: the hooks resolve any body through the graph and ask the predicate.
 fn bug_incidental_predicate_rule_with_a_non_member() {
     let (mut world, _, ball, mut layer) = stepped(5);
-    let b = layer.node_of_body(ball).unwrap();
+    let b = layer.graph().try_node_of_body(ball).unwrap();
     // "Ignore every interaction of the ball": only the ball is a member.
     layer
+        .logic_mut()
         .add_rule(Rule::ignore_if(&[b], move |x, y| x == b || y == b))
         .unwrap();
     for _ in 0..60 {
@@ -126,42 +136,51 @@ fn composites_with_stale_wrong_and_removed_members() {
     layer.step(&mut world);
     let (stale, _) = stale_node(&mut layer, &mut world);
     let (g, b, x) = (
-        layer.node_of_body(ground).unwrap(),
-        layer.node_of_body(ball).unwrap(),
-        layer.node_of_body(extra).unwrap(),
+        layer.graph().try_node_of_body(ground).unwrap(),
+        layer.graph().try_node_of_body(ball).unwrap(),
+        layer.graph().try_node_of_body(extra).unwrap(),
     );
-    let t = layer.add_timer(1.0).unwrap();
+    let t = layer.logic_mut().add_timer(1.0).unwrap();
     let before = fingerprint(&layer);
     assert!(matches!(
-        layer.declare_composite(&[]),
+        layer.logic_mut().declare_composite_nodes(&[]),
         Err(Error::InvalidParameter { .. })
     ));
     assert_eq!(
-        layer.declare_composite(&[b, stale]),
+        layer.logic_mut().declare_composite_nodes(&[b, stale]),
         Err(Error::StaleNode(stale))
     );
     let f = foreign_nodes(b)[0];
-    assert_eq!(layer.declare_composite(&[f]), Err(Error::StaleNode(f)));
+    assert_eq!(
+        layer.logic_mut().declare_composite_nodes(&[f]),
+        Err(Error::StaleNode(f))
+    );
     assert!(matches!(
-        layer.declare_composite(&[b, g]),
+        layer.logic_mut().declare_composite_nodes(&[b, g]),
         Err(Error::WrongKind { .. })
     ));
     assert!(matches!(
-        layer.declare_composite(&[t]),
+        layer.logic_mut().declare_composite_nodes(&[t]),
         Err(Error::WrongKind { .. })
     ));
     assert_eq!(fingerprint(&layer), before, "nothing added");
     // Repeats: one structural edge per member.
-    let c = layer.declare_composite(&[b, b, x]).unwrap();
+    let c = layer
+        .logic_mut()
+        .declare_composite_nodes(&[b, b, x])
+        .unwrap();
     assert_eq!(layer.graph().node(c).unwrap().degree(), 2);
     // remove_composite with wrong ids.
-    assert_eq!(layer.remove_composite(stale), Err(Error::StaleNode(stale)));
+    assert_eq!(
+        layer.logic_mut().remove_composite(stale),
+        Err(Error::StaleNode(stale))
+    );
     assert!(matches!(
-        layer.remove_composite(b),
+        layer.logic_mut().remove_composite(b),
         Err(Error::WrongKind { .. })
     ));
     assert!(matches!(
-        layer.remove_composite(t),
+        layer.logic_mut().remove_composite(t),
         Err(Error::WrongKind { .. })
     ));
     // A member removed from the world: the composite stays, removable, valid.
@@ -170,8 +189,12 @@ fn composites_with_stale_wrong_and_removed_members() {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
-    layer.remove_composite(c).unwrap();
-    assert_eq!(layer.remove_composite(c), Err(Error::StaleNode(c)), "twice");
+    layer.logic_mut().remove_composite(c).unwrap();
+    assert_eq!(
+        layer.logic_mut().remove_composite(c),
+        Err(Error::StaleNode(c)),
+        "twice"
+    );
     layer.step(&mut world);
     layer.validate(&world).unwrap();
 }

@@ -1,8 +1,8 @@
 //! Bad-input audit (see `tests/common/audit.rs`): the layer's settings —
-//! `set_speedups` and `SpeedUps::validate`, the speed-up state queries, the coherence
+//! `speedups_mut().set` and `SpeedUps::validate`, the speed-up state queries, the coherence
 //! settings (`set_contact_details`, `request_full_sync`, `set_trigger_widening`, the
 //! scan policy), and the monitor: `MonitorConfig::validate`, `Monitor::check`, and the
-//! layer's `set_monitor`, `mark_pushed`, `prime_monitor`, `holds`.
+//! layer's `monitor_mut()` (`set`, `mark_pushed`, `prime`) and `analysis().holds`.
 
 mod common;
 
@@ -56,7 +56,7 @@ fn set_speedups_refuses_bad_parameters() {
     for config in bad {
         let before = fingerprint(&layer);
         assert!(matches!(
-            layer.set_speedups(Some(config.clone())),
+            layer.speedups_mut().set(Some(config.clone())),
             Err(Error::InvalidParameter { .. })
         ));
         assert!(layer.speedups().is_none(), "nothing switched on");
@@ -71,10 +71,11 @@ fn set_speedups_refuses_bad_parameters() {
         sleepy_steps: u32::MAX,
         ..base.clone()
     };
-    layer.set_speedups(Some(edge)).unwrap();
+    layer.speedups_mut().set(Some(edge)).unwrap();
     // A bad configuration while on keeps the one in force.
     assert!(layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             damping: Real::NAN,
             ..base
         }))
@@ -87,8 +88,8 @@ fn set_speedups_refuses_bad_parameters() {
     });
     layer.validate(&world).unwrap();
     // Off twice: no-op.
-    layer.set_speedups(None).unwrap();
-    layer.set_speedups(None).unwrap();
+    layer.speedups_mut().set(None).unwrap();
+    layer.speedups_mut().set(None).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
 }
@@ -101,15 +102,15 @@ fn settings_at_any_time() {
         coherence::ScanPolicy::Walk,
         coherence::ScanPolicy::Auto,
     ] {
-        layer.set_scan_policy(policy);
-        layer.set_contact_details(false);
-        layer.request_full_sync();
-        layer.request_full_sync();
-        layer.set_trigger_widening(false);
+        layer.analysis_mut().set_scan_policy(policy);
+        layer.analysis_mut().set_contact_details(false);
+        layer.analysis_mut().request_full_sync();
+        layer.analysis_mut().request_full_sync();
+        layer.logic_mut().set_trigger_widening(false);
         layer.step(&mut world);
         layer.validate(&world).unwrap();
-        layer.set_contact_details(true);
-        layer.set_trigger_widening(true);
+        layer.analysis_mut().set_contact_details(true);
+        layer.logic_mut().set_trigger_widening(true);
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
@@ -119,13 +120,13 @@ fn settings_at_any_time() {
     let (mut world, _, _) = ball_on_ground();
     let mut layer =
         ContactLayer::with_tracking(rapier_contact_graph::coherence::Tracking::Proximity);
-    layer.set_contact_details(false);
+    layer.analysis_mut().set_contact_details(false);
     for _ in 0..30 {
         layer.step(&mut world);
     }
-    let n = layer.node_of_body(ball).unwrap();
+    let n = layer.graph().try_node_of_body(ball).unwrap();
     assert_eq!(layer.graph().touching(n).count(), 1);
-    assert_eq!(layer.is_supported(n), Err(Error::DetailsNotKept));
+    assert_eq!(layer.analysis().is_supported(n), Err(Error::DetailsNotKept));
     assert_eq!(layer.supports_of_body(&world, ball, 0.0).unwrap().len(), 1);
 }
 
@@ -176,7 +177,8 @@ fn speedups_validate() {
 fn speedup_state_queries_with_foreign_handles() {
     let (mut world, _, ball, mut layer) = stepped(0);
     layer
-        .set_speedups(Some(SpeedUps::combination(127)))
+        .speedups_mut()
+        .set(Some(SpeedUps::combination(127)))
         .unwrap();
     for _ in 0..200 {
         layer.step(&mut world);
@@ -303,16 +305,17 @@ fn monitor_check_with_a_world_the_layer_never_saw() {
 fn monitor_entry_points_take_bad_input() {
     let (mut world, _, ball, mut layer) = stepped(5);
     // With the monitor off: priming and pushes are no-ops.
-    layer.prime_monitor(&WorldView::from(&world));
-    layer.mark_pushed(ball);
+    layer.monitor_mut().prime(&WorldView::from(&world));
+    layer.monitor_mut().mark_pushed(ball);
     assert!(layer.monitor().is_none());
     assert_eq!(
-        layer.violation_totals(),
+        layer.monitor().map(|m| m.monitor().totals()),
         None,
         "no totals with the monitor off"
     );
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Off,
             MonitorConfig::default(),
             RepairConfig::default(),
@@ -320,7 +323,8 @@ fn monitor_entry_points_take_bad_input() {
         .unwrap();
     assert!(layer.monitor().is_none(), "Off twice: no-op");
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Repair,
             MonitorConfig::default(),
             RepairConfig::default(),
@@ -339,7 +343,10 @@ fn monitor_entry_points_take_bad_input() {
     for (want, edit) in bad_repairs {
         let mut r = RepairConfig::default();
         edit(&mut r);
-        match layer.set_monitor(MonitorMode::Report, MonitorConfig::default(), r) {
+        match layer
+            .monitor_mut()
+            .set(MonitorMode::Report, MonitorConfig::default(), r)
+        {
             Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, want),
             other => panic!("{r:?}: expected an error on {want}, got {other:?}"),
         }
@@ -354,7 +361,9 @@ fn monitor_entry_points_take_bad_input() {
         ..MonitorConfig::default()
     };
     assert!(matches!(
-        layer.set_monitor(MonitorMode::Report, bad_thresholds, RepairConfig::default()),
+        layer
+            .monitor_mut()
+            .set(MonitorMode::Report, bad_thresholds, RepairConfig::default()),
         Err(Error::InvalidParameter {
             name: "hang_time",
             ..
@@ -362,12 +371,19 @@ fn monitor_entry_points_take_bad_input() {
     ));
     // A removed body: pushes are ignored, and it is not held.
     world.remove_body(ball);
-    layer.mark_pushed(ball);
-    assert!(!layer.holds(&world.bodies, ball));
+    layer.monitor_mut().mark_pushed(ball);
+    assert!(!layer.analysis().holds(&world.bodies, ball));
     no_panic("step after pushing a removed body", || {
         layer.step(&mut world)
     });
     layer.validate(&world).unwrap();
     assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
-    assert_eq!(layer.violation_totals().unwrap().total(), 0);
+    assert_eq!(
+        layer
+            .monitor()
+            .map(|m| m.monitor().totals())
+            .unwrap()
+            .total(),
+        0
+    );
 }

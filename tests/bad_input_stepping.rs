@@ -50,8 +50,8 @@ fn step_with_non_finite_state_and_foreign_worlds() {
     for (what, corrupt) in corruptions {
         for speedups in [None, Some(SpeedUps::combination(127))] {
             let (mut world, _, ball, mut layer) = stepped(5);
-            layer.set_speedups(speedups.clone()).unwrap();
-            let node = layer.node_of_body(ball).unwrap();
+            layer.speedups_mut().set(speedups.clone()).unwrap();
+            let node = layer.graph().try_node_of_body(ball).unwrap();
             corrupt(&mut world, ball);
             no_panic(what, || {
                 for _ in 0..5 {
@@ -110,12 +110,12 @@ fn bug_step_remove_and_insert_leaves_ghost_node() {
     // Fixed body removed, another body inserted: the counts do not change, so no full
     // scan runs, and the fixed body was never awake, so nothing refreshes it.
     let (mut world, ground, _, mut layer) = stepped(30);
-    let g = layer.node_of_body(ground).unwrap();
+    let g = layer.graph().try_node_of_body(ground).unwrap();
     world.remove_body(ground);
     ball_at(&mut world, [20.0, 5.0, 0.0], 0.5);
     layer.step(&mut world);
     assert!(
-        layer.removed_nodes().iter().any(|r| r.id == g),
+        layer.analysis().removed_nodes().iter().any(|r| r.id == g),
         "the removed ground is reported removed"
     );
     assert!(layer.graph().node(g).is_none(), "its node is gone");
@@ -169,12 +169,15 @@ fn bug_step_huge_dt_misses_pairs() {
 #[test]
 fn pre_step_with_a_foreign_world_and_twice() {
     let (mut world, ground, ball, mut layer) = stepped(3);
-    layer.set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     let (g, b) = (
-        layer.node_of_body(ground).unwrap(),
-        layer.node_of_body(ball).unwrap(),
+        layer.graph().try_node_of_body(ground).unwrap(),
+        layer.graph().try_node_of_body(ball).unwrap(),
     );
-    layer.add_rule(Rule::ignore_pair(g, b)).unwrap();
+    layer.logic_mut().add_rule(Rule::ignore_pair(g, b)).unwrap();
     // Queued changes applied to a world that does not have the bodies: skipped.
     let mut other = PhysicsWorld::new();
     no_panic("pre_step on an empty world", || {
@@ -219,18 +222,21 @@ fn analyze_with_odd_views() {
     };
     no_panic("analyze a mixed view", || {
         layer.analyze(mixed);
-        let _ = layer.validate_view(&mixed);
+        let _ = layer.validate(&mixed);
     });
     // Wrong time: analysed twice for one Rapier step. Counted as two steps (the
     // contract is one call per step; the view cannot tell).
-    let timer = layer.add_timer(1.0).unwrap();
+    let timer = layer.logic_mut().add_timer(1.0).unwrap();
     world.step();
-    let before = (layer.current_step(), layer.simulated_time());
+    let before = (
+        layer.analysis().current_step(),
+        layer.logic().simulated_time(),
+    );
     layer.analyze(WorldView::from(&world));
     layer.analyze(WorldView::from(&world));
-    assert_eq!(layer.current_step(), before.0 + 2);
-    assert!((layer.simulated_time() - before.1 - 2.0 * DT as f64).abs() < 1e-9);
-    assert_eq!(layer.timer_ticks(timer), Ok(0));
+    assert_eq!(layer.analysis().current_step(), before.0 + 2);
+    assert!((layer.logic().simulated_time() - before.1 - 2.0 * DT as f64).abs() < 1e-9);
+    assert_eq!(layer.logic().timer_ticks(timer), Ok(0));
     layer.validate(&world).unwrap();
 }
 
@@ -255,7 +261,7 @@ impl EventHandler for Spy<'_> {
         _: Option<&ContactPair>,
     ) {
         let l = self.layer;
-        let node = l.node_of_body(self.ball);
+        let node = l.graph().try_node_of_body(self.ball);
         let touching = l
             .graph()
             .edge_of_bodies(self.ball, self.ground)
@@ -264,7 +270,7 @@ impl EventHandler for Spy<'_> {
         self.seen
             .lock()
             .unwrap()
-            .push((l.current_step(), ok, touching));
+            .push((l.analysis().current_step(), ok, touching));
     }
     fn handle_contact_force_event(
         &self,
@@ -321,7 +327,7 @@ fn wrong_time_a_rule_predicate_runs_inside_the_step_and_sees_only_earlier_events
     let latest_seen = Arc::new(AtomicU64::new(0));
     let calls = Arc::new(AtomicU64::new(0));
     let (now2, latest2, calls2) = (now.clone(), latest_seen.clone(), calls.clone());
-    let b = layer.node_of_body(ball).unwrap();
+    let b = layer.graph().try_node_of_body(ball).unwrap();
     let g = layer
         .graph()
         .nodes_of_kind(NodeKind::Fixed)
@@ -331,6 +337,7 @@ fn wrong_time_a_rule_predicate_runs_inside_the_step_and_sees_only_earlier_events
     // The predicate is `'static + Send + Sync` and gets node ids only: it cannot borrow
     // the layer. It can hold a receiver; it sees the events of finished steps only.
     layer
+        .logic_mut()
         .add_rule(Rule::ignore_if(&[b, g], move |_, _| {
             calls2.fetch_add(1, Ordering::Relaxed);
             for e in events.try_iter() {
@@ -346,7 +353,7 @@ fn wrong_time_a_rule_predicate_runs_inside_the_step_and_sees_only_earlier_events
         }))
         .unwrap();
     for _ in 0..20 {
-        now.store(layer.current_step() + 1, Ordering::Relaxed);
+        now.store(layer.analysis().current_step() + 1, Ordering::Relaxed);
         no_panic("predicate during the step", || layer.step(&mut world));
     }
     // Between steps (validate() asks the predicate too) every event is out.
@@ -363,12 +370,12 @@ fn wrong_time_a_rule_predicate_runs_inside_the_step_and_sees_only_earlier_events
 fn wrong_time_changes_between_pre_step_and_rapier_step_wait_for_the_next_pre_step() {
     let (mut world, ground, ball, mut layer) = stepped(20);
     let (g, b) = (
-        layer.node_of_body(ground).unwrap(),
-        layer.node_of_body(ball).unwrap(),
+        layer.graph().try_node_of_body(ground).unwrap(),
+        layer.graph().try_node_of_body(ball).unwrap(),
     );
     layer.pre_step(WorldMut::from(&mut world));
     // Too late for this step: the hooks were prepared already.
-    layer.add_rule(Rule::ignore_pair(g, b)).unwrap();
+    layer.logic_mut().add_rule(Rule::ignore_pair(g, b)).unwrap();
     world.step_with_events(&layer.hooks(), &());
     layer.analyze(WorldView::from(&world));
     layer.validate(&world).unwrap();
@@ -386,25 +393,35 @@ fn wrong_time_changes_between_pre_step_and_rapier_step_wait_for_the_next_pre_ste
 fn wrong_time_calls_before_the_first_step() {
     let (world, ground, ball) = ball_on_ground();
     let mut layer = ContactLayer::new();
-    // The layer has not seen the world yet: bodies are unknown, not an absent value.
-    assert_eq!(layer.node_of_body(ball), Err(Error::UnknownBody(ball)));
+    // The layer has not seen the world yet: its bodies are not seen yet where a node
+    // is needed (the graph, asked without the world, has none).
     assert_eq!(
-        layer.set_body_disabled(ball, true),
+        layer.graph().try_node_of_body(ball),
         Err(Error::UnknownBody(ball))
     );
-    assert!(Error::UnknownBody(ball)
+    assert_eq!(
+        layer.node_of_body(&world.bodies, ball),
+        Err(Error::UnseenBody(ball))
+    );
+    assert_eq!(
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, ball, true),
+        Err(Error::UnseenBody(ball))
+    );
+    assert!(Error::UnseenBody(ball)
         .to_string()
-        .contains("not seen by the layer yet"));
+        .contains("inserted since the layer's last step"));
     // Nothing analysed yet: nothing to hold against the world.
     assert_eq!(layer.validate(&world), Ok(()));
     assert!(layer.graph().edge_of_bodies(ground, ball).is_none());
-    let t = layer.add_timer(1.0).unwrap();
+    let t = layer.logic_mut().add_timer(1.0).unwrap();
     assert_eq!(
         layer.validate(&world),
         Ok(()),
         "a timer before the first step"
     );
-    assert_eq!(layer.timer_ticks(t), Ok(0));
+    assert_eq!(layer.logic().timer_ticks(t), Ok(0));
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let found = no_panic("monitor before the first step", || {
         monitor

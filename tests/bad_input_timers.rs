@@ -61,7 +61,7 @@ fn add_timer_refuses_bad_periods() {
     for p in [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         assert!(
             matches!(
-                layer.add_timer(p),
+                layer.logic_mut().add_timer(p),
                 Err(Error::InvalidParameter { name: "period", .. })
             ),
             "{p}"
@@ -70,11 +70,11 @@ fn add_timer_refuses_bad_periods() {
     assert_eq!(layer.graph().node_count(), 0, "nothing added");
     // Huge finite periods are in range: they never tick.
     let (mut world, _, _) = ball_on_ground();
-    let t = layer.add_timer(f64::MAX).unwrap();
+    let t = layer.logic_mut().add_timer(f64::MAX).unwrap();
     for _ in 0..10 {
         layer.step(&mut world);
     }
-    assert_eq!(layer.timer_ticks(t), Ok(0));
+    assert_eq!(layer.logic().timer_ticks(t), Ok(0));
 }
 
 #[test]
@@ -85,8 +85,9 @@ fn child_tiny_timer_period() {
     }
     let (mut world, _, _, mut layer) = stepped(2);
     // Refused now; the shortest accepted period fires a bounded number of ticks.
-    assert!(layer.add_timer(1e-300).is_err());
+    assert!(layer.logic_mut().add_timer(1e-300).is_err());
     layer
+        .logic_mut()
         .add_timer(rapier_contact_graph::logic::MIN_TIMER_PERIOD)
         .unwrap();
     layer.step(&mut world);
@@ -101,25 +102,32 @@ fn bug_tiny_timer_period_hangs_next_step() {
 #[test]
 fn timer_queries_with_stale_and_wrong_ids() {
     let (mut world, _, ball, mut layer) = stepped(2);
-    let b = layer.node_of_body(ball).unwrap();
-    let t = layer.add_timer(0.5).unwrap();
-    assert_eq!(layer.timer_period(t), Ok(0.5));
-    layer.remove_timer(t).unwrap();
-    assert_eq!(layer.remove_timer(t), Err(Error::StaleNode(t)), "twice");
-    assert_eq!(layer.timer_ticks(t), Err(Error::StaleNode(t)));
-    assert_eq!(layer.timer_period(t), Err(Error::StaleNode(t)));
+    let b = layer.graph().try_node_of_body(ball).unwrap();
+    let t = layer.logic_mut().add_timer(0.5).unwrap();
+    assert_eq!(layer.logic().timer_period(t), Ok(0.5));
+    layer.logic_mut().remove_timer(t).unwrap();
+    assert_eq!(
+        layer.logic_mut().remove_timer(t),
+        Err(Error::StaleNode(t)),
+        "twice"
+    );
+    assert_eq!(layer.logic().timer_ticks(t), Err(Error::StaleNode(t)));
+    assert_eq!(layer.logic().timer_period(t), Err(Error::StaleNode(t)));
     for f in foreign_nodes(b) {
-        assert_eq!(layer.remove_timer(f), Err(Error::StaleNode(f)));
-        assert_eq!(layer.timer_ticks(f), Err(Error::StaleNode(f)));
-        assert_eq!(layer.timer_period(f), Err(Error::StaleNode(f)));
+        assert_eq!(layer.logic_mut().remove_timer(f), Err(Error::StaleNode(f)));
+        assert_eq!(layer.logic().timer_ticks(f), Err(Error::StaleNode(f)));
+        assert_eq!(layer.logic().timer_period(f), Err(Error::StaleNode(f)));
     }
     assert!(matches!(
-        layer.remove_timer(b),
+        layer.logic_mut().remove_timer(b),
         Err(Error::WrongKind { .. })
     ));
-    assert!(matches!(layer.timer_ticks(b), Err(Error::WrongKind { .. })));
     assert!(matches!(
-        layer.timer_period(b),
+        layer.logic().timer_ticks(b),
+        Err(Error::WrongKind { .. })
+    ));
+    assert!(matches!(
+        layer.logic().timer_period(b),
         Err(Error::WrongKind { .. })
     ));
     assert!(layer.graph().node(b).is_some(), "the body is untouched");
@@ -131,7 +139,7 @@ fn timer_queries_with_stale_and_wrong_ids() {
 // Fixed: the bug this test was written for (see the audit table).
 fn bug_nan_dt_stops_timers_forever() {
     let (mut world, _, _, mut layer) = stepped(0);
-    let timer = layer.add_timer(0.25).unwrap();
+    let timer = layer.logic_mut().add_timer(0.25).unwrap();
     world.integration_parameters.dt = Real::NAN;
     layer.step(&mut world); // Rapier: nothing moves, no panic.
     world.integration_parameters.dt = DT;
@@ -139,12 +147,12 @@ fn bug_nan_dt_stops_timers_forever() {
         layer.step(&mut world);
     }
     assert!(
-        layer.simulated_time().is_finite(),
+        layer.logic().simulated_time().is_finite(),
         "clock is {}",
-        layer.simulated_time()
+        layer.logic().simulated_time()
     );
     assert_eq!(
-        layer.timer_ticks(timer),
+        layer.logic().timer_ticks(timer),
         Ok(4),
         "1 s of steps, period 0.25 s"
     );
@@ -154,7 +162,7 @@ fn bug_nan_dt_stops_timers_forever() {
 // Fixed: the bug this test was written for (see the audit table).
 fn bug_negative_dt_runs_timers_backwards() {
     let (mut world, _, _, mut layer) = stepped(0);
-    let timer = layer.add_timer(0.1).unwrap();
+    let timer = layer.logic_mut().add_timer(0.1).unwrap();
     world.integration_parameters.dt = -0.05;
     for _ in 0..4 {
         layer.step(&mut world);
@@ -164,11 +172,11 @@ fn bug_negative_dt_runs_timers_backwards() {
         layer.step(&mut world);
     }
     assert!(
-        layer.simulated_time() >= 0.5 - 1e-9,
+        layer.logic().simulated_time() >= 0.5 - 1e-9,
         "clock {}",
-        layer.simulated_time()
+        layer.logic().simulated_time()
     );
-    assert_eq!(layer.timer_ticks(timer), Ok(5));
+    assert_eq!(layer.logic().timer_ticks(timer), Ok(5));
 }
 
 #[test]
@@ -178,7 +186,7 @@ fn child_infinite_dt_with_timer() {
         return;
     }
     let (mut world, _, _, mut layer) = stepped(2);
-    layer.add_timer(0.5).unwrap();
+    layer.logic_mut().add_timer(0.5).unwrap();
     world.integration_parameters.dt = Real::INFINITY;
     layer.step(&mut world);
 }

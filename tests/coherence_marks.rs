@@ -38,10 +38,10 @@ fn a_fly_by_goes_through_every_mark_in_order_and_the_edge_goes_when_obsolete() {
     for _ in 0..300 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
-        let step = layer.current_step();
+        let step = layer.analysis().current_step();
         let (nf, nb) = (
-            layer.node_of_body(fixed).unwrap(),
-            layer.node_of_body(ball).unwrap(),
+            layer.graph().try_node_of_body(fixed).unwrap(),
+            layer.graph().try_node_of_body(ball).unwrap(),
         );
         match layer.graph().edge_between(nf, nb) {
             Some(eid) => {
@@ -93,30 +93,30 @@ fn removing_a_body_removes_its_node_and_reports_its_edges_vanished() {
     common::run_validated(&mut scene, &mut layer, 0, 80);
     let bx = scene.body("box").unwrap();
     let ball = scene.body("ball").unwrap();
-    let node = layer.node_of_body(bx).unwrap();
+    let node = layer.graph().try_node_of_body(bx).unwrap();
     assert_eq!(layer.graph().node(node).unwrap().degree(), 2);
 
     scene.world.remove_body(bx);
     common::run_validated(&mut scene, &mut layer, 80, 1);
     assert!(layer.graph().node(node).is_none(), "node removed");
     assert_eq!(
-        layer.node_of_body(bx),
+        layer.graph().try_node_of_body(bx),
         Err(rapier_contact_graph::Error::UnknownBody(bx))
     );
-    assert_eq!(layer.removed_nodes().len(), 1);
-    assert_eq!(layer.removed_nodes()[0].id, node);
-    let step = layer.current_step();
-    let removed = layer.removed_edges();
+    assert_eq!(layer.analysis().removed_nodes().len(), 1);
+    assert_eq!(layer.analysis().removed_nodes()[0].id, node);
+    let step = layer.analysis().current_step();
+    let removed = layer.analysis().removed_edges();
     assert_eq!(removed.len(), 2, "ground–box and box–ball");
     for e in removed {
         assert_eq!(e.proximity_mark(step), Some(Transition::Vanished));
         assert_eq!(e.touching_mark(step), Some(Transition::Vanished));
     }
     // The ball falls on; nothing else is lost.
-    let nb = layer.node_of_body(ball).unwrap();
+    let nb = layer.graph().try_node_of_body(ball).unwrap();
     assert!(layer.graph().node(nb).unwrap().is_awake());
     common::run_validated(&mut scene, &mut layer, 81, 100);
-    assert!(layer.removed_edges().is_empty(), "reported once");
+    assert!(layer.analysis().removed_edges().is_empty(), "reported once");
 }
 
 #[test]
@@ -127,15 +127,24 @@ fn stale_ids_and_foreign_handles_are_errors_not_panics() {
     common::run_validated(&mut scene, &mut layer, 0, 2);
     let foreign = RigidBodyHandle::from_raw_parts(999, 0);
     assert_eq!(
-        layer.node_of_body(foreign),
+        layer.graph().try_node_of_body(foreign),
         Err(Error::UnknownBody(foreign))
     );
     let bogus = NodeId::from_raw_parts(12345, 0);
-    assert_eq!(layer.kind_of(bogus), Err(Error::StaleNode(bogus)));
-    assert_eq!(layer.is_supported(bogus), Err(Error::StaleNode(bogus)));
+    assert_eq!(
+        layer.graph().try_node(bogus).map(|x| x.kind()),
+        Err(Error::StaleNode(bogus))
+    );
+    assert_eq!(
+        layer.analysis().is_supported(bogus),
+        Err(Error::StaleNode(bogus))
+    );
     assert!(layer.graph().try_body_of(bogus).is_err());
     assert_eq!(layer.graph().neighbors(bogus).count(), 0);
-    let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
+    let ground = layer
+        .graph()
+        .try_node_of_body(scene.body("ground").unwrap())
+        .unwrap();
     assert!(matches!(
         layer.graph().try_edge_between(ground, bogus),
         Err(Error::StaleNode(_))
@@ -155,8 +164,8 @@ fn a_non_finite_body_does_not_poison_the_graph() {
     let top = scene.body("s2").unwrap();
     let mid = scene.body("s1").unwrap();
     let (n_top, n_mid) = (
-        layer.node_of_body(top).unwrap(),
-        layer.node_of_body(mid).unwrap(),
+        layer.graph().try_node_of_body(top).unwrap(),
+        layer.graph().try_node_of_body(mid).unwrap(),
     );
 
     // A NaN velocity: Rapier quarantines the body (disables it, resets its pose); the
@@ -193,8 +202,14 @@ fn a_non_finite_body_does_not_poison_the_graph() {
         assert!(c.relative_pose.translation.is_finite(), "no NaN cached");
         assert!(!c.max_penetration.is_nan() && !c.normal_impulse.is_nan());
     }
-    let s0 = layer.node_of_body(scene.body("s0").unwrap()).unwrap();
-    let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
+    let s0 = layer
+        .graph()
+        .try_node_of_body(scene.body("s0").unwrap())
+        .unwrap();
+    let ground = layer
+        .graph()
+        .try_node_of_body(scene.body("ground").unwrap())
+        .unwrap();
     let e = layer.graph().edge_between(ground, s0).unwrap();
     assert!(
         layer.graph().edge(e).unwrap().is_touching(),

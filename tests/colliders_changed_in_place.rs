@@ -14,7 +14,7 @@ use common::build::*;
 fn run(layer: &mut ContactLayer, world: &mut PhysicsWorld, steps: usize, what: &str) {
     for i in 0..steps {
         layer.step(world);
-        if let Err(e) = layer.validate(world) {
+        if let Err(e) = layer.validate(&*world) {
             panic!("{what}: step {i}: {e}");
         }
     }
@@ -72,7 +72,7 @@ fn a_full_sync_after_set_parent_on_sleeping_bodies_gives_the_exact_graph() {
         world
             .colliders
             .set_parent(extra, Some(ground), &mut world.bodies);
-        layer.request_full_sync();
+        layer.analysis_mut().request_full_sync();
         run(&mut layer, &mut world, 30, "to the ground, synced");
     });
 }
@@ -115,17 +115,17 @@ fn a_fixed_bodys_collider_turned_sensor_over_fixed_ground_validates() {
             let (_, post) = fixed_box_at(&mut world, [0.0, 0.9, 0.0], 0.5);
             ball_at(&mut world, [0.0, 3.0, 0.0], 0.3);
             let mut layer = ContactLayer::new();
-            layer.set_trigger_widening(widen);
+            layer.logic_mut().set_trigger_widening(widen);
             layer.set_tracking(tracking);
             run(&mut layer, &mut world, 5, "before");
             world.colliders[post].set_sensor(true);
             if sync {
-                layer.request_full_sync();
+                layer.analysis_mut().request_full_sync();
             }
             run(&mut layer, &mut world, 10, "sensor");
             world.colliders[post].set_sensor(false);
             if sync {
-                layer.request_full_sync();
+                layer.analysis_mut().request_full_sync();
             }
             run(&mut layer, &mut world, 10, "solid again");
         });
@@ -170,9 +170,12 @@ fn ball_ignoring_another(
     let (b, _) = ball_at(&mut world, [0.0, height, 0.0], 0.3);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    let na = layer.node_of_body(first.0).unwrap();
-    let nb = layer.node_of_body(b).unwrap();
-    layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
+    let na = layer.graph().try_node_of_body(first.0).unwrap();
+    let nb = layer.graph().try_node_of_body(b).unwrap();
+    layer
+        .logic_mut()
+        .add_rule(Rule::ignore_pair(na, nb))
+        .unwrap();
     (world, layer, first, (na, nb))
 }
 
@@ -216,12 +219,15 @@ fn a_rule_applies_to_a_collider_moved_onto_a_member() {
     let mut layer = ContactLayer::new();
     run(&mut layer, &mut world, 2, "start");
     world.colliders.set_parent(wall, Some(a), &mut world.bodies);
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     let (na, nb) = (
-        layer.node_of_body(a).unwrap(),
-        layer.node_of_body(b).unwrap(),
+        layer.graph().try_node_of_body(a).unwrap(),
+        layer.graph().try_node_of_body(b).unwrap(),
     );
-    layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
+    layer
+        .logic_mut()
+        .add_rule(Rule::ignore_pair(na, nb))
+        .unwrap();
     run(&mut layer, &mut world, 20, "moved, then ruled");
 }
 
@@ -235,8 +241,11 @@ fn a_predicate_rule_meets_a_new_body_consistently() {
     let (a, _) = ball_at(&mut world, [0.0, 0.8, 0.0], 0.3);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    let na = layer.node_of_body(a).unwrap();
-    layer.add_rule(Rule::ignore_if(&[na], |_, _| true)).unwrap();
+    let na = layer.graph().try_node_of_body(a).unwrap();
+    layer
+        .logic_mut()
+        .add_rule(Rule::ignore_if(&[na], |_, _| true))
+        .unwrap();
     run(&mut layer, &mut world, 3, "rule");
     ball_at(&mut world, [0.2, 0.8, 0.0], 0.3);
     run(&mut layer, &mut world, 20, "new body next to the member");

@@ -236,7 +236,7 @@ type Names = Vec<Vec<(String, ((u32, u32), (u32, u32)))>>;
 fn run_compound(tracking: Tracking, policy: ScanPolicy) -> (Vec<Change>, Names) {
     let (mut world, bodies) = compound_scene();
     let mut layer = ContactLayer::with_tracking(tracking);
-    layer.set_scan_policy(policy);
+    layer.analysis_mut().set_scan_policy(policy);
     let kinds = match tracking {
         Tracking::Touching => KindSet::COLLISION_EVENTS,
         Tracking::Proximity => KindSet::CONTACT | KindSet::PROXIMITY,

@@ -48,7 +48,7 @@ fn check_scene(mut scene: Scene, steps: u64, every: u64) -> ContactLayer {
 #[test]
 fn groups_equal_components_in_a_settling_pile() {
     let layer = check_scene(scenes::sphere_pile(300, 3), 600, 20);
-    let s = layer.stats().groups;
+    let s = layer.analysis().stats().groups;
     assert!(s.largest_bodies > 10, "the pile forms large groups: {s:?}");
 }
 
@@ -92,7 +92,7 @@ fn groups_follow_removals_and_wake_ups() {
     let mut scene = scenes::sphere_stack(5);
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 300);
-    assert_eq!(layer.stats().awake_bodies, 0, "the stack sleeps");
+    assert_eq!(layer.analysis().stats().awake_bodies, 0, "the stack sleeps");
     assert_eq!(layer.groups().len(), 1);
     let (_, g) = layer.groups().iter().next().unwrap();
     assert!(g.asleep);

@@ -61,7 +61,7 @@ fn one_touching_line_per_touching_pair_in_its_group_colour() {
 
     // Each in the colour keyed by its group's smallest member.
     let color_of = |h| {
-        let n = layer.node_of_body(h).unwrap();
+        let n = layer.graph().try_node_of_body(h).unwrap();
         let g = layer.graph().node(n).unwrap().group().unwrap();
         style.group_color(group_key(layer.groups().get(g).unwrap()).unwrap())
     };
@@ -100,7 +100,7 @@ fn group_colours_stay_when_a_group_grows() {
         ..nothing()
     };
     let group_of = |layer: &ContactLayer| {
-        let n = layer.node_of_body(a[0]).unwrap();
+        let n = layer.graph().try_node_of_body(a[0]).unwrap();
         layer.graph().node(n).unwrap().group().unwrap()
     };
     let pile_color = |layer: &ContactLayer, world: &PhysicsWorld| {
@@ -118,8 +118,8 @@ fn group_colours_stay_when_a_group_grows() {
         );
     }
     let (na, nd) = (
-        layer.node_of_body(a[1]).unwrap(),
-        layer.node_of_body(dropped).unwrap(),
+        layer.graph().try_node_of_body(a[1]).unwrap(),
+        layer.graph().try_node_of_body(dropped).unwrap(),
     );
     assert!(layer.graph().touching(na).any(|n| n == nd), "it landed");
     assert_eq!(

@@ -66,7 +66,10 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
     );
     let mut layer = ContactLayer::new();
     run(&mut layer, &mut world, 1);
-    layer.set_body_disabled(passive, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, passive, true)
+        .unwrap();
     run(&mut layer, &mut world, 19);
     assert!(!world.bodies[resting].is_sleeping(), "awake after 0.2 s");
 
@@ -78,7 +81,7 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
         BodyState::of(
             layer,
             &world.bodies,
-            layer.node_of_body(h).unwrap(),
+            layer.graph().try_node_of_body(h).unwrap(),
             style.rest_speed,
         )
     };
@@ -99,7 +102,7 @@ fn markers_show_asleep_resting_moving_passive_and_insulator() {
     // Rapier puts the resting ball to sleep.
     run(&mut layer, &mut world, 300);
     assert!(world.bodies[resting].is_sleeping());
-    assert!(layer.holds(&world.bodies, resting));
+    assert!(layer.analysis().holds(&world.bodies, resting));
     let style = OverlayStyle {
         marker: MarkerShape::Cross,
         ..style
@@ -121,7 +124,8 @@ fn markers_show_bodies_held_by_fixation() {
     let falling = ball(&mut world, 5.0, 200.0, 0.5);
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             fixate: true,
             subgroup: true,
             ..SpeedUps::contact_graph()
@@ -150,7 +154,7 @@ fn markers_show_bodies_held_by_fixation() {
         (g, BodyState::Insulator),
         (falling, BodyState::Moving),
     ] {
-        let n = layer.node_of_body(h).unwrap();
+        let n = layer.graph().try_node_of_body(h).unwrap();
         assert_eq!(
             BodyState::of(&layer, &world.bodies, n, style.rest_speed),
             Some(s)
@@ -196,7 +200,8 @@ fn markers_show_sleepy_bodies_in_an_awake_island() {
     );
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             sleepy_steps: 5,
             ..SpeedUps::contact_graph()
         }))

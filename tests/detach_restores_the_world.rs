@@ -11,7 +11,7 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
-use rapier_contact_graph::{ContactLayer, Rule, WorldMut};
+use rapier_contact_graph::{ContactLayer, WorldMut};
 
 use common::build::*;
 
@@ -133,33 +133,36 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
     let mut layer = ContactLayer::new();
     let mut expected = settings(&world);
     layer.step(&mut world);
-    let node = |layer: &ContactLayer, h| layer.node_of_body(h).unwrap();
     // Rules over bodies with and without the user's own hook flags.
     layer
-        .add_rule(Rule::ignore_pair(
-            node(&layer, bodies[0]),
-            node(&layer, bodies[2]),
-        ))
+        .logic_mut()
+        .ignore_pair(&world, bodies[0], bodies[2])
         .unwrap();
     let between = layer
-        .add_rule(Rule::ignore_pair(
-            node(&layer, bodies[4]),
-            node(&layer, bodies[5]),
-        ))
+        .logic_mut()
+        .ignore_pair(&world, bodies[4], bodies[5])
         .unwrap();
-    layer.set_body_disabled(bodies[1], true).unwrap();
-    layer.set_body_disabled(bodies[7], true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, bodies[1], true)
+        .unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, bodies[7], true)
+        .unwrap();
     for i in 0..60 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
         if i == 20 {
             layer
-                .set_speedups(Some(SpeedUps::combination(127)))
+                .speedups_mut()
+                .set(Some(SpeedUps::combination(127)))
                 .unwrap();
         }
         if i == 30 {
             layer
-                .set_monitor(
+                .monitor_mut()
+                .set(
                     MonitorMode::Repair,
                     MonitorConfig::default(),
                     RepairConfig::default(),
@@ -175,7 +178,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
     world.colliders[sensor].set_active_collision_types(ActiveCollisionTypes::DYNAMIC_FIXED);
     world.colliders[toggled].set_sensor(true);
     // As documented: a change in place to a body the layer may hold or that sleeps.
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     world.integration_parameters.dt = 1.0 / 50.0;
     for i in 0..120 {
         layer.step(&mut world);
@@ -183,19 +186,21 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
         match i {
             10 => {
                 world.colliders[toggled].set_sensor(false);
-                layer.request_full_sync();
+                layer.analysis_mut().request_full_sync();
             }
-            20 => layer.set_speedups(None).unwrap(),
+            20 => layer.speedups_mut().set(None).unwrap(),
             40 => layer
-                .set_speedups(Some(SpeedUps::combination(0b101_0101)))
+                .speedups_mut()
+                .set(Some(SpeedUps::combination(0b101_0101)))
                 .unwrap(),
             60 => {
-                layer.remove_rule(between).unwrap();
+                layer.logic_mut().remove_rule(between).unwrap();
             }
             80 => {
-                layer.set_speedups(None).unwrap();
+                layer.speedups_mut().set(None).unwrap();
                 layer
-                    .set_monitor(
+                    .monitor_mut()
+                    .set(
                         MonitorMode::Off,
                         MonitorConfig::default(),
                         RepairConfig::default(),

@@ -218,12 +218,12 @@ fn run(mode: &Mode) -> Outcome {
         Mode::Observe => Some(ContactLayer::new()),
         Mode::SpeedUps(cfg) => {
             let mut l = ContactLayer::new();
-            l.set_speedups(Some(cfg.clone())).unwrap();
+            l.speedups_mut().set(Some(cfg.clone())).unwrap();
             Some(l)
         }
     };
     let rx = layer.as_mut().map(|l| {
-        l.add_timer(TIMER_PERIOD).unwrap();
+        l.logic_mut().add_timer(TIMER_PERIOD).unwrap();
         l.subscribe(Filter::all())
     });
 

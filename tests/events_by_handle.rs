@@ -133,7 +133,7 @@ fn touch_events_carry_the_contact_normal_and_impulse_under_both_trackings() {
         let (mut world, a, _, _) = scene();
         let mut layer = ContactLayer::new();
         layer.set_tracking(tracking);
-        layer.set_contact_details(details);
+        layer.analysis_mut().set_contact_details(details);
         let rx = layer
             .subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])).with_bodies(&[a]));
         for _ in 0..120 {

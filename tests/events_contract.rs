@@ -100,8 +100,8 @@ fn a_dropped_receiver_is_pruned_and_the_step_goes_on() {
     common::run_validated(&mut scene, &mut layer, 0, 10);
     drop(dropped);
     common::run_validated(&mut scene, &mut layer, 10, 100);
-    assert_eq!(layer.event_bus().pruned(), 1);
-    assert_eq!(layer.event_bus().len(), 1);
+    assert_eq!(layer.analysis().event_bus().pruned(), 1);
+    assert_eq!(layer.analysis().event_bus().len(), 1);
     assert!(keep.try_iter().any(|e| e.kind == EventKind::ContactStarted));
 }
 
@@ -121,7 +121,7 @@ fn a_full_bounded_channel_drops_the_newest_and_counts() {
     }
     let received = rx.try_iter().count();
     assert_eq!(received, 16, "the first 16 are kept");
-    assert_eq!(layer.event_bus().dropped() as usize, total - 16);
+    assert_eq!(layer.analysis().event_bus().dropped() as usize, total - 16);
 }
 
 #[test]
@@ -129,7 +129,10 @@ fn filters_by_kind_and_by_node() {
     let mut scene = scenes::ball_on_box();
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 1);
-    let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
+    let ball = layer
+        .graph()
+        .try_node_of_body(scene.body("ball").unwrap())
+        .unwrap();
     let ball_only = layer.subscribe(Filter::kinds(KindSet::CONTACT).with_nodes(&[ball]));
     let begins = layer.subscribe(Filter::kinds(KindSet::of(&[EventKind::ContactStarted])));
     common::run_validated(&mut scene, &mut layer, 1, 100);
@@ -151,7 +154,7 @@ fn removing_a_body_ends_its_spans() {
     log.drain();
     assert_eq!(log.open_touch(), 2);
     let bx = scene.body("box").unwrap();
-    let node = layer.node_of_body(bx).unwrap();
+    let node = layer.graph().try_node_of_body(bx).unwrap();
     scene.world.remove_body(bx);
     common::run_validated(&mut scene, &mut layer, 120, 1);
     log.drain();

@@ -41,7 +41,7 @@
 //!   wake it; add or remove an impulse joint (fixed or revolute) and a multibody joint
 //!   (revolute);
 //! - **the user's own Rapier calls** (`Op::User`) on any body, a held one (one
-//!   `ContactLayer::holds`: fixated by the speed-ups or asleep) or a parked one (held
+//!   `LayerAnalysis::holds`: fixated by the speed-ups or asleep) or a parked one (held
 //!   and taken out of Rapier's active set by the speed-ups), each falling back to the
 //!   next kind when there is none: `apply_impulse(.., true)`, `set_linvel(.., true)`,
 //!   `set_body_type(.., true)`, `set_enabled`, `sleep()`, `wake_up(true)`, and removal

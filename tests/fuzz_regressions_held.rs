@@ -46,11 +46,12 @@ fn held_ball(park: Park, monitor: bool) -> (PhysicsWorld, ContactLayer, RigidBod
     );
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps::reliable_sleep()))
+        .speedups_mut()
+        .set(Some(SpeedUps::reliable_sleep()))
         .unwrap();
     if monitor {
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-        layer.set_monitor(MonitorMode::Report, c, r).unwrap();
+        layer.monitor_mut().set(MonitorMode::Report, c, r).unwrap();
     }
     for _ in 0..100 {
         layer.step(&mut world);
@@ -72,7 +73,7 @@ fn held_ball(park: Park, monitor: bool) -> (PhysicsWorld, ContactLayer, RigidBod
 /// Rapier accepts on any body) for a held body without support: a hanging sleeper
 /// (the arena's floor here), and in repair mode it "repairs" it, with a `Repaired`
 /// event naming the floor (disabled by the user in the fuzzed sequence, which is how
-/// the contract checker saw it: "names a passive body"). `ContactLayer::holds` counts
+/// the contract checker saw it: "names a passive body"). `LayerAnalysis::holds` counts
 /// every sleeping body as held, and the hanging detector takes a fixed body as held
 /// when `holds` says so (meant for the speed-ups' fixated bodies). Seen once the
 /// floor is looked at: after `request_full_sync()`, which the docs ask for after
@@ -86,7 +87,8 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
     let floor = world.bodies.iter().next().unwrap().0;
     let mut layer = ContactLayer::new();
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Report,
             MonitorConfig::default(),
             RepairConfig::default(),
@@ -94,13 +96,16 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
         .unwrap();
     layer.step(&mut world);
     world.bodies[floor].sleep();
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     for _ in 0..30 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
     // Failed when found: 1 hanging sleeper (the floor, after 0.1 s).
-    assert_eq!(layer.violation_totals().unwrap(), Default::default());
+    assert_eq!(
+        layer.monitor().map(|m| m.monitor().totals()).unwrap(),
+        Default::default()
+    );
 }
 
 /// The same cause as `fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper`: a body made
@@ -109,7 +114,7 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
 /// taken for a held body without support, and the monitor in repair mode "repairs"
 /// it (a `Repaired` event naming a passive body: "names a passive body" to the
 /// contract checker). The hanging detector means to skip disabled bodies
-/// (`rb.is_enabled() || held(h)`), but `held` is `ContactLayer::holds`, true for any
+/// (`rb.is_enabled() || held(h)`), but `held` is `LayerAnalysis::holds`, true for any
 /// sleeping body. Found by every speed-ups configuration once steps the layer does not
 /// see were on (a new random stream), shrunk to `Ball`, `Step(1)`, `Passive(29,
 /// true)`, `Sleep(157)`.
@@ -124,21 +129,28 @@ fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
     );
     let mut layer = ContactLayer::new();
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Report,
             MonitorConfig::default(),
             RepairConfig::default(),
         )
         .unwrap();
     layer.step(&mut world);
-    layer.set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     world.bodies[ball].sleep();
     for _ in 0..30 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
     // Failed when found: 1 hanging sleeper (the passive ball, after 0.1 s).
-    assert_eq!(layer.violation_totals().unwrap(), Default::default());
+    assert_eq!(
+        layer.monitor().map(|m| m.monitor().totals()).unwrap(),
+        Default::default()
+    );
 }
 
 /// A body the speed-ups hold (fixed to Rapier; parked out of its active set here,
@@ -166,7 +178,7 @@ fn fixed_a_held_body_the_user_disables_is_passive_in_the_graph() {
         layer.validate(&world).unwrap();
     }
     assert!(!world.bodies[ball].is_enabled());
-    let n = layer.node_of_body(ball).unwrap();
+    let n = layer.graph().try_node_of_body(ball).unwrap();
     // Failed when found: the node is not passive.
     assert!(layer.graph().node(n).unwrap().is_body_disabled());
 }
@@ -186,14 +198,14 @@ fn fixed_a_held_body_the_user_disabled_is_not_repaired() {
     for park in [Park::Active, Park::Parked] {
         let (mut world, mut layer, ball) = held_ball(park, false);
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-        layer.set_monitor(MonitorMode::Repair, c, r).unwrap();
+        layer.monitor_mut().set(MonitorMode::Repair, c, r).unwrap();
         let rx = layer.subscribe(rapier_contact_graph::Filter::kinds(
             rapier_contact_graph::KindSet::MONITOR,
         ));
         let floor = world.bodies.iter().next().unwrap().0;
         world.bodies[ball].set_enabled(false);
         world.remove_body(floor);
-        layer.request_full_sync();
+        layer.analysis_mut().request_full_sync();
         for _ in 0..30 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();

@@ -41,7 +41,7 @@ fn fixed_containers_follow_a_jointed_body_changing_type() {
     );
     // Both bodies dynamic now: Rapier's joint makes them one composite.
     world.bodies[a].set_body_type(RigidBodyType::Dynamic, true);
-    layer.request_full_sync(); // as the docs ask for a fixed body changed in place
+    layer.analysis_mut().request_full_sync(); // as the docs ask for a fixed body changed in place
     layer.step(&mut world);
     let mut fresh = ContactLayer::new();
     fresh.analyze(WorldView::from(&world));
@@ -60,7 +60,7 @@ fn fixed_containers_follow_a_joint_swapped_for_another_between_steps() {
     let j = world.insert_impulse_joint(a, b, FixedJointBuilder::new());
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    let ca = layer.node_of_body(c).unwrap();
+    let ca = layer.graph().try_node_of_body(c).unwrap();
     // The composite moves from (a, b) to (a, c): same number of joints.
     world.remove_impulse_joint(j);
     world.insert_impulse_joint(a, c, FixedJointBuilder::new());
@@ -90,7 +90,8 @@ fn fixed_a_fixated_jointed_body_leaves_its_container() {
     );
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             fixate: true,
             ..SpeedUps::contact_graph()
         }))
@@ -118,8 +119,14 @@ fn fixed_a_removed_container_of_passive_bodies_leaves_its_group() {
     let j = world.insert_impulse_joint(a, b, FixedJointBuilder::new());
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_body_disabled(a, true).unwrap();
-    layer.set_body_disabled(b, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, b, true)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // The container is now a group of its own (its members, passive, are in none).
@@ -147,7 +154,8 @@ fn fixed_switching_subgroup_off_regroups_a_container() {
     let c = ball_at(&mut world, [2.0, 1.0, 0.0], 0.5).0;
     world.insert_impulse_joint(b, c, joint());
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             subgroup: true,
             ..SpeedUps::contact_graph()
         }))
@@ -160,7 +168,7 @@ fn fixed_switching_subgroup_off_regroups_a_container() {
         world.bodies[c].is_sleeping(),
         "the composite rests and sleeps"
     );
-    layer.set_speedups(None).unwrap();
+    layer.speedups_mut().set(None).unwrap();
     layer.step(&mut world);
     // Failed before the fix: "edge .. joins groups Some(..) and None": under subgrouping the sleepy
     // members insulated, so the composite's node was grouped alone; once the switch
@@ -179,19 +187,25 @@ fn fixed_set_passive_on_a_multibody_member_is_refused() {
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
     for body in [root, link] {
-        match layer.set_body_disabled(body, true) {
+        match layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, body, true)
+        {
             Err(Error::Unsupported { .. }) => {}
             other => panic!("set_body_disabled(true) on a multibody member: {other:?}"),
         }
         // Making it active is always accepted (a no-op here).
-        layer.set_body_disabled(body, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, body, false)
+            .unwrap();
     }
     for _ in 0..5 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();
     }
     assert!(world.bodies[root].is_enabled() && world.bodies[link].is_enabled());
-    assert!(layer.refusals().is_empty());
+    assert!(layer.logic().refusals().is_empty());
 }
 
 /// The same, reached around `set_body_disabled`'s own check: the body becomes a multibody
@@ -206,7 +220,10 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25); // overlaps b
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_body_disabled(a, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
     let joint = chain_joint();
     world.insert_multibody_joint(a, b, joint).unwrap();
     layer.step(&mut world);
@@ -214,12 +231,15 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
         world.bodies[a].is_enabled(),
         "the queued change was refused"
     );
-    assert_eq!(layer.refusals().len(), 1);
-    assert_eq!(layer.refusals()[0].0, a);
-    assert!(matches!(layer.refusals()[0].1, Error::Unsupported { .. }));
+    assert_eq!(layer.logic().refusals().len(), 1);
+    assert_eq!(layer.logic().refusals()[0].0, a);
+    assert!(matches!(
+        layer.logic().refusals()[0].1,
+        Error::Unsupported { .. }
+    ));
     layer.validate(&world).unwrap();
     layer.step(&mut world);
-    assert!(layer.refusals().is_empty(), "reported once");
+    assert!(layer.logic().refusals().is_empty(), "reported once");
 
     // Joined after the body was made passive: made active again.
     let mut world = PhysicsWorld::new();
@@ -229,10 +249,13 @@ fn fixed_a_passive_body_joined_to_a_multibody_is_made_active_again() {
     ball_at(&mut world, [0.0, 0.5, 0.0], 0.25);
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_body_disabled(a, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, a, true)
+        .unwrap();
     layer.step(&mut world);
     assert!(!world.bodies[a].is_enabled());
-    let na = layer.node_of_body(a).unwrap();
+    let na = layer.graph().try_node_of_body(a).unwrap();
     assert!(layer.graph().node(na).unwrap().is_body_disabled());
     world.insert_multibody_joint(a, b, joint).unwrap();
     for _ in 0..5 {
@@ -263,9 +286,15 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         }
         let mut layer = ContactLayer::new();
         layer.step(&mut world);
-        layer.set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
         if other_passive {
-            layer.set_body_disabled(other, true).unwrap();
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, other, true)
+                .unwrap();
         }
         layer.step(&mut world);
         // A joint between a passive body and a fixed (or passive) one, added by the
@@ -278,7 +307,10 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
         assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
         // Active again: Rapier enables the joint with the body (and a passive other
         // end has it disabled again at the next pre-step).
-        layer.set_body_disabled(passive, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, false)
+            .unwrap();
         for _ in 0..5 {
             layer.step(&mut world);
             layer.validate(&world).unwrap();
@@ -289,7 +321,10 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             !other_passive
         );
         if other_passive {
-            layer.set_body_disabled(other, false).unwrap();
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, other, false)
+                .unwrap();
             for _ in 0..5 {
                 layer.step(&mut world);
                 layer.validate(&world).unwrap();
@@ -304,9 +339,15 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
             .unwrap()
             .data
             .set_enabled(false);
-        layer.set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
         layer.step(&mut world);
-        layer.set_body_disabled(passive, false).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, false)
+            .unwrap();
         layer.step(&mut world);
         assert!(!world.impulse_joints.get(k).unwrap().data.is_enabled());
         assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());
@@ -324,7 +365,10 @@ fn fixed_a_collider_added_to_a_passive_body_gets_no_edges() {
     );
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_body_disabled(cube, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, cube, true)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     // A second collider on the passive body (Rapier enables it and pairs it with
@@ -351,7 +395,8 @@ fn fixed_a_deferred_fixation_of_a_new_multibody_link_is_skipped() {
         let link = ball_at(&mut world, [2.0, 1.0, 0.0], 0.5).0;
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps {
+            .speedups_mut()
+            .set(Some(SpeedUps {
                 fixate: true,
                 ..SpeedUps::contact_graph()
             }))
@@ -411,18 +456,24 @@ fn fixed_a_new_fixed_body_jointed_to_a_passive_body_does_not_panic() {
     }
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    layer.set_body_disabled(floor, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, floor, true)
+        .unwrap();
     layer.step(&mut world);
     let (post, _) = fixed_box_at(&mut world, [3.0, 1.0, 0.0], 0.4);
     world.bodies[floor].set_body_type(RigidBodyType::KinematicVelocityBased, true);
-    layer.request_full_sync(); // a passive body changed in place
+    layer.analysis_mut().request_full_sync(); // a passive body changed in place
     let j = world.insert_impulse_joint(post, floor, FixedJointBuilder::new());
     for _ in 0..3 {
         layer.step(&mut world); // panicked here
         layer.validate(&world).unwrap();
     }
     assert!(!world.impulse_joints.get(j).unwrap().data.is_enabled());
-    layer.set_body_disabled(floor, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, floor, false)
+        .unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     assert!(world.impulse_joints.get(j).unwrap().data.is_enabled());

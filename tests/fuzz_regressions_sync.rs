@@ -67,7 +67,7 @@ fn fixed_a_fixed_body_moved_next_to_a_sleeping_body_is_paired_after_a_full_sync(
     }
     assert!(world.bodies[ball].is_sleeping());
     world.bodies[post].set_translation(Vector::new(1.05, 1.0, 0.0), true);
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     layer.step(&mut world);
     assert!(world.bodies[ball].is_sleeping());
     layer.validate(&world).unwrap();
@@ -78,7 +78,7 @@ fn fixed_a_fixed_body_moved_next_to_a_sleeping_body_is_paired_after_a_full_sync(
     assert!(g.edge(e).unwrap().is_proximate());
     // And away again: the edge ends.
     world.bodies[post].set_translation(Vector::new(4.0, 1.0, 0.0), true);
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
 }
@@ -97,7 +97,7 @@ fn fixed_geometry_added_next_to_a_sleeping_body_is_paired() {
     // A fixed box 0.05 m from the sleeping ball: within Rapier's prediction
     // distance (a pair, not touching), so Rapier does not wake the ball.
     fixed_box_at(&mut world, [1.05, 1.0, 0.0], 0.5);
-    layer.request_full_sync(); // not needed (the body count changed); no help either
+    layer.analysis_mut().request_full_sync(); // not needed (the body count changed); no help either
     layer.step(&mut world);
     assert!(world.bodies[ball].is_sleeping());
     // Failed before the fix: "Rapier pair of nodes ..–.. has no edge" (or "edge .. of a Rapier
@@ -133,7 +133,8 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
     world.wake_up(ball, true);
     layer.step(&mut world); // WokeUp
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             fixate: true,
             ..SpeedUps::contact_graph()
         }))
@@ -175,7 +176,7 @@ fn fixed_a_body_turned_fixed_and_back_sends_alternating_sleep_events() {
         RigidBodyType::Dynamic,
     ] {
         world.bodies[ball].set_body_type(ty, true);
-        layer.request_full_sync();
+        layer.analysis_mut().request_full_sync();
         layer.step(&mut world);
     }
     let kinds = sleep_events(&rx, ball);
@@ -199,9 +200,15 @@ fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
         layer.step(&mut world);
     }
     assert!(world.bodies[ball].is_sleeping()); // FellAsleep sent
-    layer.set_body_disabled(ball, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, true)
+        .unwrap();
     layer.step(&mut world);
-    layer.set_body_disabled(ball, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, ball, false)
+        .unwrap();
     for _ in 0..200 {
         layer.step(&mut world); // re-enabled awake, then asleep again
     }
@@ -242,7 +249,7 @@ fn fixed_a_sleeping_body_woken_and_turned_fixed_between_steps_is_read_after_a_fu
         .is_empty());
     world.bodies[ball].set_translation(Vector::new(5.0, 0.5, 0.0), true);
     world.bodies[ball].set_body_type(RigidBodyType::Fixed, true);
-    layer.request_full_sync();
+    layer.analysis_mut().request_full_sync();
     for _ in 0..3 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();

@@ -40,7 +40,7 @@ fn widened_against_plain(
 ) -> Option<(u32, String)> {
     let (mut plain, mut layered) = (build(), build());
     let mut layer = ContactLayer::new();
-    layer.set_trigger_widening(true);
+    layer.logic_mut().set_trigger_widening(true);
     let state = |w: &PhysicsWorld| -> Vec<(bool, [u32; 6])> {
         w.bodies
             .iter()
@@ -214,7 +214,7 @@ fn fixed_a_collider_kept_by_a_removed_body_keeps_its_touching_pairs() {
     world.remove_body_with_colliders(a, false);
     for _ in 0..3 {
         layer.step(&mut world);
-        assert!(layer.touching_in_effect());
+        assert!(layer.analysis().touching_in_effect());
         // Failed when found: "Rapier pair of nodes 7–8 has no edge".
         layer.validate(&world).unwrap();
     }

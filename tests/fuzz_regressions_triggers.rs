@@ -24,7 +24,7 @@ use common::build::*;
 /// what these regressions were found with (widening was the default then).
 fn widened_layer() -> ContactLayer {
     let mut layer = ContactLayer::new();
-    layer.set_trigger_widening(true);
+    layer.logic_mut().set_trigger_widening(true);
     layer
 }
 
@@ -37,9 +37,12 @@ fn fixed_a_rule_naming_a_trigger_keeps_validate() {
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     let trigger = layer.graph().node_of_sensor(sensor).unwrap();
-    let b = layer.node_of_body(ball).unwrap();
+    let b = layer.graph().try_node_of_body(ball).unwrap();
     // `add_rule` accepts a trigger member ("a body or a trigger")...
-    layer.add_rule(Rule::ignore_pair(trigger, b)).unwrap();
+    layer
+        .logic_mut()
+        .add_rule(Rule::ignore_pair(trigger, b))
+        .unwrap();
     layer.step(&mut world);
     // ...but Table 2 in graph::validate allows logical edges Rule–physical only:
     // "edge .. of kind Logical joins Rule and Trigger".
@@ -69,7 +72,7 @@ fn fixed_a_rule_between_a_trigger_and_static_geometry_ends_their_edge() {
         layer.graph().edge_between(t, w).is_some(),
         "the slab is inside the trigger"
     );
-    let rule = layer.add_rule(Rule::ignore_pair(t, w)).unwrap();
+    let rule = layer.logic_mut().add_rule(Rule::ignore_pair(t, w)).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     let geometric = |layer: &ContactLayer| {
@@ -81,7 +84,7 @@ fn fixed_a_rule_between_a_trigger_and_static_geometry_ends_their_edge() {
     };
     assert!(!geometric(&layer));
     // The rule removed: the edge is back.
-    layer.remove_rule(rule).unwrap();
+    layer.logic_mut().remove_rule(rule).unwrap();
     layer.step(&mut world);
     layer.validate(&world).unwrap();
     assert!(geometric(&layer));
@@ -101,10 +104,10 @@ fn fixed_a_sensor_added_to_a_rule_member_is_not_screened_by_the_rule() {
     let mut layer = widened_layer();
     layer.step(&mut world);
     let (f, p) = (
-        layer.node_of_body(floor).unwrap(),
-        layer.node_of_body(post).unwrap(),
+        layer.graph().try_node_of_body(floor).unwrap(),
+        layer.graph().try_node_of_body(post).unwrap(),
     );
-    layer.add_rule(Rule::ignore_pair(f, p)).unwrap();
+    layer.logic_mut().add_rule(Rule::ignore_pair(f, p)).unwrap();
     layer.step(&mut world);
     // A sensor on the floor body, around the post.
     let sensor = world.insert_collider(
@@ -154,7 +157,7 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
         // Move the fixed body so that its sensor overlaps the floor and the ball.
         world.bodies[post].set_translation(Vector::new(3.0, 0.6, 0.0), true);
         if full_sync {
-            layer.request_full_sync(); // as the docs ask for a fixed body changed in place
+            layer.analysis_mut().request_full_sync(); // as the docs ask for a fixed body changed in place
         }
         layer.step(&mut world);
         layer.validate(&world).unwrap();
@@ -171,7 +174,7 @@ fn fixed_a_moved_fixed_sensor_meets_static_geometry_and_sleeping_bodies() {
         // And away again: both end.
         world.bodies[post].set_translation(Vector::new(0.0, 5.0, 0.0), true);
         if full_sync {
-            layer.request_full_sync();
+            layer.analysis_mut().request_full_sync();
         }
         layer.step(&mut world);
         layer.validate(&world).unwrap();
@@ -209,7 +212,7 @@ fn fixed_a_fixed_bodys_collider_removed_inside_a_trigger_ends_its_edge() {
         );
         if turned_sensor {
             world.colliders[floor].set_sensor(true);
-            layer.request_full_sync(); // as the docs ask for a fixed body changed in place
+            layer.analysis_mut().request_full_sync(); // as the docs ask for a fixed body changed in place
         } else {
             world.remove_collider(floor); // the fixed body stays, without collider
         }
@@ -229,7 +232,10 @@ fn fixed_a_sensor_on_a_passive_body_ends_its_edge_when_moved() {
     let (carrier, _) = ball_at(&mut world, [0.0, 1.0, 0.0], 0.5);
     let mut layer = widened_layer();
     layer.step(&mut world);
-    layer.set_body_disabled(carrier, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, carrier, true)
+        .unwrap();
     layer.step(&mut world);
     // A sensor added to the passive body, inside the floor.
     let sensor = world.insert_collider(ColliderBuilder::ball(0.8).sensor(true), Some(carrier));

@@ -67,7 +67,7 @@ fn groups_stay_whole_components_at_every_step_of_a_settling_pile() {
 fn without_a_budget_splits_are_deferred_then_settled() {
     let mut scene = scenes::sphere_pile(300, 3);
     let mut layer = ContactLayer::new();
-    layer.set_group_split_budget(0);
+    layer.analysis_mut().set_group_split_budget(0);
     let (mut most_deferred, mut unions_seen) = (0, 0);
     for step in 0..400 {
         let stats = common::step_validated(&mut scene, &mut layer, step);
@@ -82,9 +82,9 @@ fn without_a_budget_splits_are_deferred_then_settled() {
         unions_seen > 0,
         "a deferred group held two components at some step"
     );
-    layer.settle_groups();
+    layer.analysis_mut().settle_groups();
     assert!(layer.groups().deferred().is_empty());
-    assert_eq!(layer.stats().groups.deferred, 0);
+    assert_eq!(layer.analysis().stats().groups.deferred, 0);
     assert_eq!(check_against_components(&layer, "settled"), 0);
     layer.validate(&scene.world).unwrap();
     // The settled groups are those of a layer that never deferred.
@@ -175,14 +175,14 @@ fn a_group_sleeps_and_wakes_with_its_members_without_a_rebuild() {
         .get(stack)
         .expect("same group after the wake-up");
     assert!(!g.asleep, "a woken member wakes its group");
-    assert_eq!(layer.stats().groups.awake_groups, 1);
+    assert_eq!(layer.analysis().stats().groups.awake_groups, 1);
 }
 
 #[test]
 fn settling_with_nothing_deferred_changes_nothing() {
     let (scene, mut layer, top) = settled_stack();
     let before = gid(&layer, top);
-    layer.settle_groups();
+    layer.analysis_mut().settle_groups();
     assert_eq!(gid(&layer, top), before);
     layer.validate(&scene.world).unwrap();
 }

@@ -23,7 +23,7 @@ fn held_config() -> SpeedUps {
 
 fn held_layer() -> ContactLayer {
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(held_config())).unwrap();
+    layer.speedups_mut().set(Some(held_config())).unwrap();
     layer
 }
 
@@ -72,7 +72,7 @@ fn fixation_and_release_are_reported_as_sleep_and_wake() {
     ])));
     let bx_node = {
         common::run_validated(&mut scene, &mut layer, 0, 1);
-        layer.node_of_body(bx).unwrap()
+        layer.graph().try_node_of_body(bx).unwrap()
     };
     let mut held_at = None;
     for step in 1..300 {
@@ -109,7 +109,7 @@ fn fixation_and_release_are_reported_as_sleep_and_wake() {
         "{slept:?}, held at {held_at}"
     );
     assert_eq!(
-        layer.stats().awake_bodies,
+        layer.analysis().stats().awake_bodies,
         0,
         "held and asleep: nothing integrated"
     );
@@ -144,7 +144,7 @@ fn detaching_restores_parked_bodies_exactly() {
     common::run_validated(&mut scene, &mut layer, 0, 300);
     assert_eq!(layer.speedups().unwrap().stats().parked, 20);
     let poses = common::pose_bits(&scene.world);
-    layer.set_speedups(None).unwrap();
+    layer.speedups_mut().set(None).unwrap();
     common::run_validated(&mut scene, &mut layer, 300, 1);
     for (_, rb) in scene.world.bodies.iter().filter(|(_, rb)| !rb.is_fixed()) {
         assert!(rb.is_dynamic() && rb.is_enabled());
@@ -278,9 +278,12 @@ fn a_body_inserted_beside_an_idle_held_pile_is_analysed_at_once() {
         ColliderBuilder::ball(0.2),
     );
     common::step_validated(&mut scene, &mut layer, step);
-    assert!(layer.node_of_body(ball).is_ok(), "its node at once");
-    assert!(layer.stats().awake_bodies >= 1);
-    let ball_node = layer.node_of_body(ball).unwrap();
+    assert!(
+        layer.graph().try_node_of_body(ball).is_ok(),
+        "its node at once"
+    );
+    assert!(layer.analysis().stats().awake_bodies >= 1);
+    let ball_node = layer.graph().try_node_of_body(ball).unwrap();
     let mut landed = false;
     for k in 1..300 {
         common::step_validated(&mut scene, &mut layer, step + k);

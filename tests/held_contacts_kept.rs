@@ -28,7 +28,8 @@ fn held_pile(
     let scene = scenes::box_pile(18, 3);
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps::reliable_sleep()))
+        .speedups_mut()
+        .set(Some(SpeedUps::reliable_sleep()))
         .unwrap();
     let kinds = if proximity {
         KindSet::ALL

@@ -57,7 +57,7 @@ fn thrown_at(config: Option<SpeedUps>) -> (usize, usize) {
     let mut scene = pile();
     let boxes = scene.dynamic_bodies();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(config.clone()).unwrap();
+    layer.speedups_mut().set(config.clone()).unwrap();
     let mut step = 0;
     let stepper = |scene: &mut scenes::Scene, layer: &mut ContactLayer, step: u64| {
         if config.is_some() {
@@ -115,7 +115,7 @@ fn a_kinematic_paddle_pushes_a_held_pile() {
     let mut scene = pile();
     let boxes = scene.dynamic_bodies();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(preset(true))).unwrap();
+    layer.speedups_mut().set(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
     assert!(layer.speedups().unwrap().stats().fixated >= 45);
     let before = positions(&scene.world, &boxes);
@@ -154,7 +154,7 @@ fn a_held_box_the_user_makes_dynamic_and_throws_up_is_the_users() {
     // The top box of the first column.
     let top = scene.dynamic_bodies()[4];
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(preset(true))).unwrap();
+    layer.speedups_mut().set(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
     assert!(layer.speedups().unwrap().is_fixated(top));
     let y0 = scene.world.bodies[top].translation().y;
@@ -181,7 +181,7 @@ fn a_held_box_falls_when_the_box_under_it_is_removed() {
     // The first column, bottom to top.
     let column: Vec<RigidBodyHandle> = scene.dynamic_bodies()[..5].to_vec();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(preset(true))).unwrap();
+    layer.speedups_mut().set(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
     let s = layer.speedups().unwrap();
     assert!(
@@ -203,7 +203,7 @@ fn a_held_pile_falls_when_its_ground_is_moved_down() {
     let boxes = scene.dynamic_bodies();
     let ground = scene.body("ground").unwrap();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(preset(true))).unwrap();
+    layer.speedups_mut().set(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
     assert_eq!(
         layer.speedups().unwrap().stats().fixated,
@@ -227,7 +227,7 @@ fn a_held_box_the_user_disables_stays_disabled() {
     let mut scene = pile();
     let boxes = scene.dynamic_bodies();
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(preset(true))).unwrap();
+    layer.speedups_mut().set(Some(preset(true))).unwrap();
     common::run_validated(&mut scene, &mut layer, 0, SETTLE);
     // One box of every column's top, each in whatever state of parking it is.
     let tops: Vec<RigidBodyHandle> = boxes.iter().skip(4).step_by(5).copied().collect();
@@ -259,7 +259,7 @@ fn a_held_box_made_dynamic_then_pushed_moves_as_a_sleeping_one() {
         let mut scene = pile();
         let top = scene.dynamic_bodies()[4];
         let mut layer = ContactLayer::new();
-        layer.set_speedups(Some(preset(true))).unwrap();
+        layer.speedups_mut().set(Some(preset(true))).unwrap();
         for step in 0..SETTLE {
             if layered {
                 common::step_validated(&mut scene, &mut layer, step);

@@ -28,7 +28,7 @@ fn a_timer_ticks_on_time_for_ten_simulated_seconds() {
     let mut scene = scenes::ball_on_box();
     let mut layer = ContactLayer::new();
     let mut log = ContractLog::attach(&mut layer);
-    let t = layer.add_timer(0.75).unwrap();
+    let t = layer.logic_mut().add_timer(0.75).unwrap();
     let mut names = common::Names::default();
     names.set(t, "timer");
     common::run_validated(&mut scene, &mut layer, 0, 1000);
@@ -44,7 +44,7 @@ fn a_timer_ticks_on_time_for_ten_simulated_seconds() {
         let due = (75 * e.tick).div_ceil(1);
         assert_eq!(e.step, due, "tick {}", e.tick);
     }
-    assert_eq!(layer.timer_ticks(t).unwrap(), 13);
+    assert_eq!(layer.logic().timer_ticks(t).unwrap(), 13);
     let timer_events: Vec<_> = log
         .events
         .iter()
@@ -55,8 +55,8 @@ fn a_timer_ticks_on_time_for_ten_simulated_seconds() {
         "timer_10s_events",
         common::format_events(&timer_events, &names)
     );
-    layer.remove_timer(t).unwrap();
-    assert_eq!(layer.remove_timer(t), Err(Error::StaleNode(t)));
+    layer.logic_mut().remove_timer(t).unwrap();
+    assert_eq!(layer.logic_mut().remove_timer(t), Err(Error::StaleNode(t)));
 }
 
 #[test]
@@ -67,35 +67,43 @@ fn bad_logical_input_is_an_error_and_changes_nothing() {
     let nodes = layer.graph().node_count();
     for p in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert!(matches!(
-            layer.add_timer(p),
+            layer.logic_mut().add_timer(p),
             Err(Error::InvalidParameter { .. })
         ));
     }
-    let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
+    let ball = layer
+        .graph()
+        .try_node_of_body(scene.body("ball").unwrap())
+        .unwrap();
     let ghost = NodeId::from_raw_parts(999, 0);
     assert_eq!(
-        layer.add_rule(Rule::ignore_pair(ball, ghost)),
+        layer.logic_mut().add_rule(Rule::ignore_pair(ball, ghost)),
         Err(Error::StaleNode(ghost))
     );
-    let t = layer.add_timer(1.0).unwrap();
+    let t = layer.logic_mut().add_timer(1.0).unwrap();
     assert!(matches!(
-        layer.add_rule(Rule::ignore_pair(ball, t)),
+        layer.logic_mut().add_rule(Rule::ignore_pair(ball, t)),
         Err(Error::WrongKind { .. })
     ));
-    layer.remove_timer(t).unwrap();
+    layer.logic_mut().remove_timer(t).unwrap();
     assert!(matches!(
-        layer.remove_rule(ball),
+        layer.logic_mut().remove_rule(ball),
         Err(Error::WrongKind { .. })
     ));
     let gone = RigidBodyHandle::from_raw_parts(77, 0);
     assert_eq!(
-        layer.set_body_disabled(gone, true),
+        layer
+            .logic_mut()
+            .set_body_disabled(&scene.world.bodies, gone, true),
         Err(Error::UnknownBody(gone))
     );
-    assert!(layer.declare_composite(&[]).is_err());
-    let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
+    assert!(layer.logic_mut().declare_composite_nodes(&[]).is_err());
+    let ground = layer
+        .graph()
+        .try_node_of_body(scene.body("ground").unwrap())
+        .unwrap();
     assert!(matches!(
-        layer.declare_composite(&[ground]),
+        layer.logic_mut().declare_composite_nodes(&[ground]),
         Err(Error::WrongKind { .. })
     ));
     assert_eq!(layer.graph().node_count(), nodes, "nothing was added");
@@ -111,11 +119,20 @@ fn a_rule_switched_on_mid_run_lets_the_ball_fall_through_the_box() {
     common::run_validated(&mut scene, &mut layer, 0, 120);
     names.learn(&scene, &layer);
     let (ball, bx) = (
-        layer.node_of_body(scene.body("ball").unwrap()).unwrap(),
-        layer.node_of_body(scene.body("box").unwrap()).unwrap(),
+        layer
+            .graph()
+            .try_node_of_body(scene.body("ball").unwrap())
+            .unwrap(),
+        layer
+            .graph()
+            .try_node_of_body(scene.body("box").unwrap())
+            .unwrap(),
     );
-    assert_eq!(layer.flagged_colliders(), 0, "no rule, no flag");
-    let rule = layer.add_rule(Rule::ignore_pair(ball, bx)).unwrap();
+    assert_eq!(layer.analysis().flagged_colliders(), 0, "no rule, no flag");
+    let rule = layer
+        .logic_mut()
+        .add_rule(Rule::ignore_pair(ball, bx))
+        .unwrap();
     names.set(rule, "rule");
     assert_eq!(layer.graph().node(rule).unwrap().kind(), NodeKind::Rule);
     assert_eq!(
@@ -135,7 +152,7 @@ fn a_rule_switched_on_mid_run_lets_the_ball_fall_through_the_box() {
         (bx, ball)
     });
     assert_eq!(
-        layer.flagged_colliders(),
+        layer.analysis().flagged_colliders(),
         2,
         "flags only on the ball's and the box's colliders"
     );
@@ -152,9 +169,9 @@ fn a_rule_switched_on_mid_run_lets_the_ball_fall_through_the_box() {
         "the ball fell through the box to the ground: y = {ball_y}"
     );
     // Removing the rule restores the flags and the interaction.
-    layer.remove_rule(rule).unwrap();
+    layer.logic_mut().remove_rule(rule).unwrap();
     common::run_validated(&mut scene, &mut layer, 271, 30);
-    assert_eq!(layer.flagged_colliders(), 0);
+    assert_eq!(layer.analysis().flagged_colliders(), 0);
     assert!(scene
         .world
         .colliders
@@ -177,9 +194,12 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
     common::run_validated(&mut scene, &mut layer, 0, 80);
     names.learn(&scene, &layer);
     let h = scene.body("ball").unwrap();
-    let ball = layer.node_of_body(h).unwrap();
+    let ball = layer.graph().try_node_of_body(h).unwrap();
     scene.world.bodies[h].user_data = 42;
-    layer.set_body_disabled(h, true).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, h, true)
+        .unwrap();
     common::run_validated(&mut scene, &mut layer, 80, 1);
     log.drain();
     log.passive.insert(ball);
@@ -188,9 +208,16 @@ fn a_passive_body_keeps_its_node_and_has_no_edges_or_events() {
     assert_eq!(node.degree(), 0, "no edges while passive");
     common::run_validated(&mut scene, &mut layer, 81, 100);
     log.drain();
-    assert_eq!(layer.node_of_body(h), Ok(ball), "same node, same handle");
+    assert_eq!(
+        layer.graph().try_node_of_body(h),
+        Ok(ball),
+        "same node, same handle"
+    );
     assert_eq!(scene.world.bodies[h].user_data, 42);
-    layer.set_body_disabled(h, false).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, h, false)
+        .unwrap();
     log.passive.clear();
     common::run_validated(&mut scene, &mut layer, 181, 100);
     log.drain();
@@ -260,7 +287,7 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     };
     let mut layer = ContactLayer::new();
     // Opt in: sensors see every body type (Rapier's default types leave some out).
-    layer.set_trigger_widening(true);
+    layer.logic_mut().set_trigger_widening(true);
     let mut log = ContractLog::attach(&mut layer);
     let mut names = common::Names::default();
     common::run_validated(&mut scene, &mut layer, 0, 1);
@@ -276,7 +303,10 @@ fn triggers_on_every_body_type_see_bodies_of_every_type() {
     log.drain();
     log.agrees_with(&layer);
     let entered = |t: NodeId, body: &str| {
-        let b = layer.node_of_body(scene.body(body).unwrap()).unwrap();
+        let b = layer
+            .graph()
+            .try_node_of_body(scene.body(body).unwrap())
+            .unwrap();
         log.events
             .iter()
             .any(|e| e.kind == EventKind::SensorStarted && e.node1 == t && e.node2 == Some(b))
@@ -373,8 +403,8 @@ fn joints_make_containers_with_structural_edges() {
     common::run_validated(&mut scene, &mut layer, 0, 5);
     assert_eq!(layer.graph().count_of_kind(NodeKind::Composite), 1);
     assert_eq!(layer.graph().count_of_kind(NodeKind::Multibody), 1);
-    let na = layer.node_of_body(a).unwrap();
-    let nb = layer.node_of_body(b).unwrap();
+    let na = layer.graph().try_node_of_body(a).unwrap();
+    let nb = layer.graph().try_node_of_body(b).unwrap();
     let ga = layer.graph().node(na).unwrap().group();
     assert!(
         ga.is_some() && ga == layer.graph().node(nb).unwrap().group(),
@@ -386,13 +416,16 @@ fn joints_make_containers_with_structural_edges() {
     assert_eq!(layer.graph().count_of_kind(NodeKind::Composite), 0);
     assert_eq!(layer.graph().count_of_kind(NodeKind::Multibody), 1);
     // A declared composite joins free bodies.
-    let comp = layer.declare_composite(&[na, nb]).unwrap();
+    let comp = layer
+        .logic_mut()
+        .declare_composite_nodes(&[na, nb])
+        .unwrap();
     common::run_validated(&mut scene, &mut layer, 10, 1);
     assert_eq!(
         layer.graph().node(na).unwrap().group(),
         layer.graph().node(nb).unwrap().group()
     );
-    layer.remove_composite(comp).unwrap();
+    layer.logic_mut().remove_composite(comp).unwrap();
     common::run_validated(&mut scene, &mut layer, 11, 1);
     assert_ne!(
         layer.graph().node(na).unwrap().group(),
@@ -434,8 +467,8 @@ fn multibody_links_are_link_nodes_of_one_multibody() {
         vec![NodeKind::Link, NodeKind::Link],
         "the fixed anchor is not a member"
     );
-    let n0 = layer.node_of_body(l0).unwrap();
-    let n1 = layer.node_of_body(l1).unwrap();
+    let n0 = layer.graph().try_node_of_body(l0).unwrap();
+    let n1 = layer.graph().try_node_of_body(l1).unwrap();
     assert_eq!(
         g.node(n0).unwrap().group(),
         g.node(n1).unwrap().group(),

@@ -121,7 +121,8 @@ fn hanging_sleeper_detects_a_held_body_left_in_the_air() {
         assert!(found.is_empty(), "{found:?}");
     }
     assert!(layer
-        .is_supported(layer.node_of_body(upper).unwrap())
+        .analysis()
+        .is_supported(layer.graph().try_node_of_body(upper).unwrap())
         .unwrap());
 
     // Fixate the upper sphere and take the lower one away.
@@ -137,7 +138,7 @@ fn hanging_sleeper_detects_a_held_body_left_in_the_air() {
         (10..=11).contains(&due),
         "0.1 s is 10 or 11 steps of 0.01 s, got {due}"
     );
-    let node = layer.node_of_body(upper).unwrap();
+    let node = layer.graph().try_node_of_body(upper).unwrap();
     let mut reports = Vec::new();
     for check in 1..=60u64 {
         let found = step(&mut world, &mut layer, &mut monitor, &held, &no_one);
@@ -166,7 +167,7 @@ fn hanging_sleeper_detects_a_held_body_left_in_the_air() {
         "value {}",
         v.value
     );
-    assert_eq!(v.step, layer.current_step() - (60 - check));
+    assert_eq!(v.step, layer.analysis().current_step() - (60 - check));
     assert_eq!(monitor.totals().hanging_sleeper, 1);
     assert!(
         (world.bodies[upper].translation().y - start_y).abs() < 1e-6,
@@ -370,7 +371,7 @@ fn hanging_sleeper_without_contact_details_counts_any_touch_as_support() {
         0.0,
     );
     let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
-    layer.set_contact_details(false);
+    layer.analysis_mut().set_contact_details(false);
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
     let held = move |h: RigidBodyHandle| h == grounded;
     let mut found = Vec::new();

@@ -33,9 +33,10 @@ fn layer_with(
     config: MonitorConfig,
 ) -> (ContactLayer, Receiver<Event>) {
     let mut layer = ContactLayer::new();
-    layer.set_speedups(speedups).unwrap();
+    layer.speedups_mut().set(speedups).unwrap();
     layer
-        .set_monitor(mode, config, RepairConfig::default())
+        .monitor_mut()
+        .set(mode, config, RepairConfig::default())
         .unwrap();
     let rx = layer.subscribe(Filter::kinds(KindSet::MONITOR));
     (layer, rx)
@@ -49,7 +50,11 @@ fn run(scene: &mut Scene, layer: &mut ContactLayer, first: u64, n: u64) {
 }
 
 fn unresponsive(layer: &ContactLayer) -> u64 {
-    layer.violation_totals().unwrap().unresponsive
+    layer
+        .monitor()
+        .map(|m| m.monitor().totals())
+        .unwrap()
+        .unresponsive
 }
 
 fn x_of(scene: &Scene, name: &str) -> Real {
@@ -73,17 +78,28 @@ fn a_box_pushed_slowly_into_a_held_pile_is_reported_once() {
     let b0 = scene.body("b0").unwrap();
     for name in ["b0", "b1", "b2", "t01", "t12"] {
         assert!(
-            layer.holds(&scene.world.bodies, scene.body(name).unwrap()),
+            layer
+                .analysis()
+                .holds(&scene.world.bodies, scene.body(name).unwrap()),
             "{name} is held before the push"
         );
     }
-    assert!(!layer.holds(&scene.world.bodies, scene.body("pusher").unwrap()));
-    assert_eq!(layer.violation_totals().unwrap().total(), 0);
+    assert!(!layer
+        .analysis()
+        .holds(&scene.world.bodies, scene.body("pusher").unwrap()));
+    assert_eq!(
+        layer
+            .monitor()
+            .map(|m| m.monitor().totals())
+            .unwrap()
+            .total(),
+        0
+    );
     assert_eq!(rx.try_iter().count(), 0);
     let b0_x = x_of(&scene, "b0");
     // The push: the held row stops the pusher, once reported.
     run(&mut scene, &mut layer, 140, 160);
-    let totals = layer.violation_totals().unwrap();
+    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
     assert_eq!(totals.unresponsive, 1, "{totals:?}");
     assert_eq!(totals.total(), 1, "{totals:?}");
     assert_eq!(x_of(&scene, "b0"), b0_x, "a held box does not move");
@@ -107,7 +123,8 @@ fn a_standalone_monitor_reports_the_same_push_under_either_tracking() {
         let mut scene = slow_push::slow_push();
         let mut layer = ContactLayer::with_tracking(tracking);
         layer
-            .set_speedups(Some(SpeedUps::reliable_sleep()))
+            .speedups_mut()
+            .set(Some(SpeedUps::reliable_sleep()))
             .unwrap();
         let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
         monitor.prime(&WorldView::from(&scene.world));
@@ -115,7 +132,7 @@ fn a_standalone_monitor_reports_the_same_push_under_either_tracking() {
         let mut found = Vec::new();
         for step in 0..300 {
             step_validated(&mut scene, &mut layer, step);
-            let held = |h: RigidBodyHandle| layer.holds(&scene.world.bodies, h);
+            let held = |h: RigidBodyHandle| layer.analysis().holds(&scene.world.bodies, h);
             monitor.check(&layer, &WorldView::from(&scene.world), &held, &|_| false);
             found.extend_from_slice(monitor.last());
             // The open episode is listed while the push lasts.
@@ -146,7 +163,14 @@ fn nothing_held_or_a_high_threshold_reports_nothing() {
     );
     let b0_x = x_of(&scene, "b0");
     run(&mut scene, &mut layer, 0, 300);
-    assert_eq!(layer.violation_totals().unwrap().total(), 0);
+    assert_eq!(
+        layer
+            .monitor()
+            .map(|m| m.monitor().totals())
+            .unwrap()
+            .total(),
+        0
+    );
     assert!(x_of(&scene, "b0") > b0_x + 0.2, "the pile was pushed");
     // Fixation with a threshold above the push: not reported, and not moved.
     let mut scene = slow_push::slow_push();
@@ -224,7 +248,10 @@ fn bodies_settling_on_a_held_pile_report_nothing() {
         MonitorConfig::default(),
     );
     let mut step = 0;
-    while !wall.iter().all(|&b| layer.holds(&scene.world.bodies, b)) {
+    while !wall
+        .iter()
+        .all(|&b| layer.analysis().holds(&scene.world.bodies, b))
+    {
         run(&mut scene, &mut layer, step, 1);
         step += 1;
         assert!(step < 500, "the wall never came to rest");
@@ -253,7 +280,7 @@ fn bodies_settling_on_a_held_pile_report_nothing() {
             .insert(RigidBodyBuilder::dynamic().translation(at), collider);
     }
     run(&mut scene, &mut layer, step, 300);
-    let totals = layer.violation_totals().unwrap();
+    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
     let peaks = layer.monitor().unwrap().monitor().peaks();
     println!(
         "settlers: {totals:?}, peak unresponsive {:.3}",
@@ -282,7 +309,7 @@ fn settling_piles_under_reliable_sleep_report_few_unresponsive_bodies() {
             MonitorConfig::default(),
         );
         run(&mut scene, &mut layer, 0, steps);
-        let totals = layer.violation_totals().unwrap();
+        let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
         let peaks = layer.monitor().unwrap().monitor().peaks();
         println!(
             "{}: {totals:?}, peak unresponsive {:.3}, fixated {}",
@@ -350,7 +377,9 @@ fn the_threshold_is_validated_by_name() {
         }
         let mut layer = ContactLayer::new();
         assert!(matches!(
-            layer.set_monitor(MonitorMode::Report, config, RepairConfig::default()),
+            layer
+                .monitor_mut()
+                .set(MonitorMode::Report, config, RepairConfig::default()),
             Err(Error::InvalidParameter {
                 name: "unresponsive_push",
                 ..

@@ -26,9 +26,10 @@ fn fixate_all() -> SpeedUps {
 
 fn layer_with(mode: MonitorMode) -> (ContactLayer, Receiver<Event>) {
     let mut layer = ContactLayer::new();
-    layer.set_speedups(Some(fixate_all())).unwrap();
+    layer.speedups_mut().set(Some(fixate_all())).unwrap();
     layer
-        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .monitor_mut()
+        .set(mode, MonitorConfig::default(), RepairConfig::default())
         .unwrap();
     let rx = layer.subscribe(Filter::kinds(KindSet::MONITOR));
     (layer, rx)
@@ -48,7 +49,14 @@ fn fixated_stack_losing_its_base(
         assert!(step < 2000, "the stack never came to rest");
     }
     // Settled and fixated: nothing was wrong so far.
-    assert_eq!(layer.violation_totals().unwrap().total(), 0);
+    assert_eq!(
+        layer
+            .monitor()
+            .map(|m| m.monitor().totals())
+            .unwrap()
+            .total(),
+        0
+    );
     assert_eq!(
         rx.try_iter().count(),
         0,
@@ -75,7 +83,7 @@ fn report_mode_finds_no_hanging_sleeper_where_fixation_lets_a_stack_fall() {
     for _ in 0..150 {
         per_step += run_validated(&mut scene, &mut layer, 0, 1).violations;
     }
-    let totals = layer.violation_totals().unwrap();
+    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
     assert_eq!(
         totals,
         layer.monitor().unwrap().monitor().totals(),
@@ -126,11 +134,13 @@ fn report_mode_does_not_change_motion() {
         let mut scene = sphere_pile(60, 7);
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps::combination(127)))
+            .speedups_mut()
+            .set(Some(SpeedUps::combination(127)))
             .unwrap();
         if let Some(mode) = mode {
             layer
-                .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+                .monitor_mut()
+                .set(mode, MonitorConfig::default(), RepairConfig::default())
                 .unwrap();
         }
         let mut poses = Vec::new();
@@ -154,7 +164,8 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
         let mut scene = sphere_pile(30, 3);
         let mut layer = ContactLayer::new();
         layer
-            .set_monitor(
+            .monitor_mut()
+            .set(
                 MonitorMode::Repair,
                 MonitorConfig::default(),
                 RepairConfig::default(),
@@ -173,7 +184,7 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
         .map(|(h, _)| h)
         .last()
         .unwrap();
-    let node = layer.node_of_body(victim).unwrap();
+    let node = layer.graph().try_node_of_body(victim).unwrap();
     let nodes_before = layer.graph().node_count();
     scene.world.bodies[victim].set_linvel(Vector::new(Real::NAN, 0.0, 0.0), true);
     let stats = run_validated(&mut scene, &mut layer, 120, 1);
@@ -207,14 +218,22 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
             "step {step}"
         );
     }
-    assert_eq!(layer.violation_totals().unwrap().escape, 1);
+    assert_eq!(
+        layer
+            .monitor()
+            .map(|m| m.monitor().totals())
+            .unwrap()
+            .escape,
+        1
+    );
 }
 
 #[test]
 fn bad_monitor_parameters_are_refused_and_change_nothing() {
     let mut layer = ContactLayer::new();
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Report,
             MonitorConfig::default(),
             RepairConfig::default(),
@@ -225,7 +244,9 @@ fn bad_monitor_parameters_are_refused_and_change_nothing() {
         ..MonitorConfig::default()
     };
     assert!(matches!(
-        layer.set_monitor(MonitorMode::Repair, bad, RepairConfig::default()),
+        layer
+            .monitor_mut()
+            .set(MonitorMode::Repair, bad, RepairConfig::default()),
         Err(Error::InvalidParameter {
             name: "hang_time",
             ..
@@ -236,7 +257,9 @@ fn bad_monitor_parameters_are_refused_and_change_nothing() {
         ..RepairConfig::default()
     };
     assert!(matches!(
-        layer.set_monitor(MonitorMode::Repair, MonitorConfig::default(), bad_cap),
+        layer
+            .monitor_mut()
+            .set(MonitorMode::Repair, MonitorConfig::default(), bad_cap),
         Err(Error::InvalidParameter {
             name: "corrective_cap",
             ..
@@ -264,7 +287,8 @@ fn leaving_repair_mode_restores_rapiers_corrective_velocity() {
     }
     assert!(capped, "released bodies get a capped correction");
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Off,
             MonitorConfig::default(),
             RepairConfig::default(),
@@ -299,9 +323,12 @@ fn overlapping_boxes_thrown(mode: MonitorMode) -> (Real, u64, u64) {
     let boxes = [0.0, 0.2].map(|x| box_at(&mut world, [x, 0.25, 0.0], 0.25).0);
     let mut layer = ContactLayer::new();
     layer
-        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .monitor_mut()
+        .set(mode, MonitorConfig::default(), RepairConfig::default())
         .unwrap();
-    layer.prime_monitor(&rapier_contact_graph::WorldView::from(&world));
+    layer
+        .monitor_mut()
+        .prime(&rapier_contact_graph::WorldView::from(&world));
     let start = boxes.map(|h| world.bodies[h].translation());
     let mut top: Real = 0.0;
     for _ in 0..200 {

@@ -43,7 +43,8 @@ fn run(
     let mut scene = scene();
     let mut layer = ContactLayer::with_tracking(tracking);
     layer
-        .set_speedups(Some(SpeedUps::combination(bits)))
+        .speedups_mut()
+        .set(Some(SpeedUps::combination(bits)))
         .unwrap();
     common::monitor_in(&mut layer, mode);
     let mut out = Vec::new();
@@ -51,7 +52,7 @@ fn run(
     for step in 0..400 {
         run_validated(&mut scene, &mut layer, step, 1);
         assert_eq!(
-            layer.coherence().tracking(),
+            layer.analysis().coherence().tracking(),
             tracking,
             "{} step {step}",
             scene.name

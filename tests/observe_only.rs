@@ -38,7 +38,7 @@ fn only_the_collision_event_flag_is_set_and_detach_takes_it_off() {
     let mut scene = scenes::two_piles_with_wall();
     let mut layer = ContactLayer::new();
     common::run_validated(&mut scene, &mut layer, 0, 50);
-    assert!(layer.touching_in_effect());
+    assert!(layer.analysis().touching_in_effect());
     for (_, c) in scene.world.colliders.iter() {
         assert!(c.active_hooks().is_empty());
         assert_eq!(c.active_events(), ActiveEvents::COLLISION_EVENTS);

@@ -13,7 +13,7 @@ use rcg_scenes as scenes;
 /// The graph as a set of lines that do not depend on slot order.
 fn edge_set(layer: &ContactLayer, details: bool) -> BTreeSet<String> {
     let g = layer.graph();
-    let step = layer.current_step();
+    let step = layer.analysis().current_step();
     g.edges()
         .filter(|(_, e)| e.kind() == EdgeKind::Physical)
         .map(|(_, e)| {
@@ -47,8 +47,8 @@ fn edge_set(layer: &ContactLayer, details: bool) -> BTreeSet<String> {
 fn run(policy: ScanPolicy, details: bool, steps: u64) -> Vec<BTreeSet<String>> {
     let mut scene = scenes::sphere_pile(150, 11);
     let mut layer = ContactLayer::new();
-    layer.set_scan_policy(policy);
-    layer.set_contact_details(details);
+    layer.analysis_mut().set_scan_policy(policy);
+    layer.analysis_mut().set_contact_details(details);
     let mut out = Vec::new();
     for step in 0..steps {
         common::run_validated(&mut scene, &mut layer, step, 1);

@@ -242,7 +242,7 @@ fn contact_details_on_demand_equal_the_per_step_copy_under_both_trackings() {
         touching.step(&mut w2);
         proximity.validate(&w1).unwrap();
         touching.validate(&w2).unwrap();
-        assert!(touching.touching_in_effect());
+        assert!(touching.analysis().touching_in_effect());
         for &b in &balls {
             let s1 = proximity.supports_of_body(&w1, b, 0.5).unwrap();
             let s2 = touching.supports_of_body(&w2, b, 0.5).unwrap();
@@ -262,9 +262,9 @@ fn contact_details_on_demand_equal_the_per_step_copy_under_both_trackings() {
                 };
                 assert_eq!(key(&d1), key(&d2));
                 // The per-step copy, oriented from the edge's A to B.
-                let n = proximity.node_of_body(b).unwrap();
+                let n = proximity.graph().try_node_of_body(b).unwrap();
                 let m = match other {
-                    Touching::Body(h) => proximity.node_of_body(h).unwrap(),
+                    Touching::Body(h) => proximity.graph().try_node_of_body(h).unwrap(),
                     Touching::Collider(c) => proximity.graph().node_of_static_collider(c).unwrap(),
                 };
                 let e = proximity.graph().edge_between(n, m).unwrap();

@@ -19,7 +19,7 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
     for _ in 0..100 {
         layer.step(&mut world);
         // The quick start is the cheap path: Rapier's own events drive the layer.
-        assert!(layer.touching_in_effect());
+        assert!(layer.analysis().touching_in_effect());
     }
     let ground = world.bodies.iter().next().map(|(h, _)| h).unwrap();
     assert_eq!(
@@ -30,6 +30,7 @@ fn readme_quick_start_runs() -> Result<(), rapier_contact_graph::Error> {
         layer.supports_of_body(&world, ball, 0.5)?,
         vec![Touching::Body(ground)]
     );
+    assert!(layer.is_grounded(&world, ball)?);
     let touching = layer.touching_body(&world.bodies, ball)?;
     let contact = layer
         .contact_details(&world, ball, touching[0])?

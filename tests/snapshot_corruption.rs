@@ -40,14 +40,17 @@ fn scene() -> (PhysicsWorld, ContactLayer) {
     );
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    let n = |l: &ContactLayer, h| l.node_of_body(h).unwrap();
+    let n = |l: &ContactLayer, h| l.graph().try_node_of_body(h).unwrap();
     let (a, b) = (n(&layer, balls[0]), n(&layer, balls[1]));
-    layer.add_rule(Rule::ignore_pair(a, b)).unwrap();
-    layer.add_timer(0.07).unwrap();
-    layer.add_timer(0.25).unwrap();
-    layer.set_body_disabled(balls[11], true).unwrap();
+    layer.logic_mut().add_rule(Rule::ignore_pair(a, b)).unwrap();
+    layer.logic_mut().add_timer(0.07).unwrap();
+    layer.logic_mut().add_timer(0.25).unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&world.bodies, balls[11], true)
+        .unwrap();
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-    layer.set_monitor(MonitorMode::Report, c, r).unwrap();
+    layer.monitor_mut().set(MonitorMode::Report, c, r).unwrap();
     for _ in 0..40 {
         layer.step(&mut world);
         layer.validate(&world).unwrap();

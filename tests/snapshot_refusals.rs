@@ -120,10 +120,15 @@ fn truncated_snapshots_are_errors_not_panics() {
 #[test]
 fn corrupted_snapshots_are_refused_or_restore_a_layer_that_steps_without_panicking() {
     // Rules, timers, a passive body, containers and a trigger, without speed-ups (their
-    // iteration counts are taken as they come, as `set_speedups` takes them, so a
+    // iteration counts are taken as they come, as `speedups_mut().set` takes them, so a
     // corrupted count could make Rapier's step take arbitrarily long).
     let (mut scene, mut layer, _, _) = logic_scene();
-    let predicate_of = picky_predicate(layer.node_of_body(scene.body("ground").unwrap()).unwrap());
+    let predicate_of = picky_predicate(
+        layer
+            .graph()
+            .try_node_of_body(scene.body("ground").unwrap())
+            .unwrap(),
+    );
     let predicate: IgnorePredicate = Arc::new(predicate_of);
     common::run_validated(&mut scene, &mut layer, 1, 60);
     let world_bytes = bincode::serialize(&scene.world).unwrap();

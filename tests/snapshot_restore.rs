@@ -174,7 +174,10 @@ fn a_restored_kinematic_platform_continues_bit_for_bit() {
 fn a_restored_layer_with_rules_timers_passive_bodies_and_containers_continues_bit_for_bit() {
     for k in [3, 60] {
         let (scene, layer, predicate, sleeper) = logic_scene();
-        let ground = layer.node_of_body(scene.body("ground").unwrap()).unwrap();
+        let ground = layer
+            .graph()
+            .try_node_of_body(scene.body("ground").unwrap())
+            .unwrap();
         let mut asked = Vec::new();
         let mut bind = |n: NodeId, members: &[NodeId]| -> Option<IgnorePredicate> {
             asked.push((n, members.to_vec()));
@@ -186,8 +189,11 @@ fn a_restored_layer_with_rules_timers_passive_bodies_and_containers_continues_bi
         t.run(80);
         // A logical change after the restore, on both sides: the passive body comes
         // back, a timer goes, a rule goes.
-        t.both(|_, layer| {
-            layer.set_body_disabled(sleeper, false).unwrap();
+        t.both(|world, layer| {
+            layer
+                .logic_mut()
+                .set_body_disabled(&world.bodies, sleeper, false)
+                .unwrap();
         });
         t.run(40);
         t.both(|_, layer| {
@@ -197,8 +203,8 @@ fn a_restored_layer_with_rules_timers_passive_bodies_and_containers_continues_bi
                 .map(|(id, _)| id)
                 .next()
                 .unwrap();
-            layer.remove_timer(timer).unwrap();
-            layer.remove_rule(predicate).unwrap();
+            layer.logic_mut().remove_timer(timer).unwrap();
+            layer.logic_mut().remove_rule(predicate).unwrap();
         });
         t.run(120);
         assert!(t.events > 0);
@@ -211,10 +217,11 @@ fn a_restored_layer_with_every_speed_up_and_repair_continues_bit_for_bit() {
     let layer_with_everything = || {
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps::combination(127)))
+            .speedups_mut()
+            .set(Some(SpeedUps::combination(127)))
             .unwrap();
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-        layer.set_monitor(MonitorMode::Repair, c, r).unwrap();
+        layer.monitor_mut().set(MonitorMode::Repair, c, r).unwrap();
         layer
     };
     let mut layer = layer_with_everything();
@@ -256,9 +263,9 @@ fn a_restored_layer_with_every_speed_up_and_repair_continues_bit_for_bit() {
     // Switching the speed-ups and the monitor off restores the world on both sides
     // alike.
     t.both(|_, layer| {
-        layer.set_speedups(None).unwrap();
+        layer.speedups_mut().set(None).unwrap();
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-        layer.set_monitor(MonitorMode::Off, c, r).unwrap();
+        layer.monitor_mut().set(MonitorMode::Off, c, r).unwrap();
     });
     t.run(100);
 }
@@ -280,12 +287,18 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
         world.remove_body(gone);
         ball_at(world, [0.2, 8.0, -0.3], 0.3);
         let (na, nb) = (
-            layer.node_of_body(a).unwrap(),
-            layer.node_of_body(b).unwrap(),
+            layer.graph().try_node_of_body(a).unwrap(),
+            layer.graph().try_node_of_body(b).unwrap(),
         );
-        layer.add_rule(Rule::ignore_pair(na, nb)).unwrap();
-        layer.add_timer(0.1).unwrap();
-        layer.set_body_disabled(passive, true).unwrap();
+        layer
+            .logic_mut()
+            .add_rule(Rule::ignore_pair(na, nb))
+            .unwrap();
+        layer.logic_mut().add_timer(0.1).unwrap();
+        layer
+            .logic_mut()
+            .set_body_disabled(&world.bodies, passive, true)
+            .unwrap();
     };
     let mut t = Twins::split_after(
         scenes::sphere_pile(30, 5),

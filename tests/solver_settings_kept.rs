@@ -28,7 +28,8 @@ fn a_preset_keeps_the_users_solver_iterations() {
     let mut world = world_with_iterations(8);
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps::reliable_sleep()))
+        .speedups_mut()
+        .set(Some(SpeedUps::reliable_sleep()))
         .unwrap();
     for _ in 0..5 {
         layer.step(&mut world);
@@ -48,7 +49,8 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
     let mut world = world_with_iterations(8);
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             iterations: Some(3),
             ..SpeedUps::reliable_sleep()
         }))
@@ -56,7 +58,8 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
     layer.step(&mut world);
     assert_eq!(iterations(&world), 3);
     layer
-        .set_speedups(Some(SpeedUps {
+        .speedups_mut()
+        .set(Some(SpeedUps {
             tweak: true,
             ..SpeedUps::reliable_sleep()
         }))
@@ -64,7 +67,8 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
     layer.step(&mut world);
     assert_eq!(iterations(&world), 1, "tweak_iterations");
     layer
-        .set_speedups(Some(SpeedUps::reliable_sleep()))
+        .speedups_mut()
+        .set(Some(SpeedUps::reliable_sleep()))
         .unwrap();
     layer.step(&mut world);
     assert_eq!(iterations(&world), 8, "the user's again");
@@ -76,7 +80,7 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
 fn run(world: &mut PhysicsWorld, layer: &mut ContactLayer, steps: usize) {
     for _ in 0..steps {
         layer.step(world);
-        layer.validate(world).unwrap();
+        layer.validate(&*world).unwrap();
     }
 }
 
@@ -91,7 +95,7 @@ fn presets_with_cache_keep_the_users_warm_start_and_recycling() {
         world.integration_parameters.warmstart_coefficient = 0.5;
         world.integration_parameters.contact_recycling = false;
         let mut layer = ContactLayer::new();
-        layer.set_speedups(Some(preset.clone())).unwrap();
+        layer.speedups_mut().set(Some(preset.clone())).unwrap();
         run(&mut world, &mut layer, 30);
         let p = &world.integration_parameters;
         assert_eq!(
@@ -130,7 +134,8 @@ fn detach_gives_back_the_users_sleep_thresholds_and_damping() {
     let mut layer = ContactLayer::new();
     // The paper's fastest preset owns sleeping (thresholds) and damps every body.
     layer
-        .set_speedups(Some(SpeedUps::papers_fastest()))
+        .speedups_mut()
+        .set(Some(SpeedUps::papers_fastest()))
         .unwrap();
     run(&mut world, &mut layer, 40);
     assert_ne!(world.bodies[h].activation().time_until_sleep, 5.0);

@@ -72,13 +72,14 @@ fn run(bits: u8, tracking: Tracking) -> Vec<After> {
     let mut scene = sphere_pile(60, 7);
     let mut layer = ContactLayer::with_tracking(tracking);
     layer
-        .set_speedups(Some(SpeedUps::combination(bits)))
+        .speedups_mut()
+        .set(Some(SpeedUps::combination(bits)))
         .unwrap();
     (0..400)
         .map(|step| {
             run_validated(&mut scene, &mut layer, step, 1);
             assert_eq!(
-                layer.coherence().tracking(),
+                layer.analysis().coherence().tracking(),
                 tracking,
                 "combination {bits:07b}: the tracking in effect at step {step}"
             );

@@ -37,7 +37,7 @@ fn touching_tracking_changes_no_trajectory_bit() {
             );
         }
     }
-    assert_eq!(layer.coherence().tracking(), Tracking::Touching);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Touching);
 }
 
 /// The touch events of a step as a set of (kind, body, body), bodies in order.
@@ -101,7 +101,7 @@ fn touch_events_are_those_of_proximity_tracking() {
         }
         assert!(seen > 0, "{name}: some touches began or ended");
         assert_eq!(
-            touching.coherence().tracking(),
+            touching.analysis().coherence().tracking(),
             Tracking::Touching,
             "{name}"
         );
@@ -231,19 +231,19 @@ fn tracking_switches_back_and_forth_and_with_the_speedups() {
     common::run_validated(&mut scene, &mut layer, 0, 60);
     layer.set_tracking(Tracking::Touching);
     common::run_validated(&mut scene, &mut layer, 60, 60);
-    assert_eq!(layer.coherence().tracking(), Tracking::Touching);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Touching);
     // A persist subscription needs every pair: proximity tracking while it lasts.
     let (id, rx) =
         layer.subscribe_with_id(Filter::kinds(KindSet::of(&[EventKind::ContactPersisted])));
     common::run_validated(&mut scene, &mut layer, 120, 60);
-    assert_eq!(layer.coherence().tracking(), Tracking::Proximity);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Proximity);
     assert!(rx.try_iter().count() > 0);
     layer.unsubscribe(id);
     common::run_validated(&mut scene, &mut layer, 180, 60);
-    assert_eq!(layer.coherence().tracking(), Tracking::Touching);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Touching);
     layer.set_tracking(Tracking::Proximity);
     common::run_validated(&mut scene, &mut layer, 240, 60);
-    assert_eq!(layer.coherence().tracking(), Tracking::Proximity);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Proximity);
 }
 
 #[test]
@@ -276,13 +276,13 @@ fn touching_tracking_yields_while_someone_asks_for_proximity() {
         KindSet::CONTACT.without(KindSet::of(&[EventKind::ContactPersisted])),
     ));
     common::run_validated(&mut scene, &mut layer, 0, 50);
-    assert_eq!(layer.coherence().tracking(), Tracking::Touching);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Touching);
     assert!(touches.try_iter().count() > 0);
     let (id, proximity) = layer.subscribe_with_id(Filter::kinds(KindSet::PROXIMITY));
     common::run_validated(&mut scene, &mut layer, 50, 50);
-    assert_eq!(layer.coherence().tracking(), Tracking::Proximity);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Proximity);
     assert!(proximity.try_iter().count() > 0);
     assert!(layer.unsubscribe(id));
     common::run_validated(&mut scene, &mut layer, 100, 50);
-    assert_eq!(layer.coherence().tracking(), Tracking::Touching);
+    assert_eq!(layer.analysis().coherence().tracking(), Tracking::Touching);
 }

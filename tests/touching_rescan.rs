@@ -14,7 +14,7 @@ use rapier_contact_graph::{ContactLayer, Rule};
 fn steps(layer: &mut ContactLayer, world: &mut PhysicsWorld, n: usize) {
     for _ in 0..n {
         layer.step(world);
-        layer.validate(world).unwrap();
+        layer.validate(&*world).unwrap();
     }
 }
 
@@ -48,7 +48,10 @@ fn a_touch_the_events_began_and_the_rescan_ended_leaves_a_valid_step() {
     world.remove_collider(extra);
     world.insert_collider(ColliderBuilder::ball(0.2), Some(d));
     let n = layer.graph().node_of_body(d).unwrap();
-    layer.add_rule(Rule::ignore_if(&[n], |_, _| true)).unwrap();
+    layer
+        .logic_mut()
+        .add_rule(Rule::ignore_if(&[n], |_, _| true))
+        .unwrap();
     let added: Vec<_> = (0..3)
         .map(|_| world.insert(dynamic_at([0.0, 0.0, 0.0]), ColliderBuilder::ball(0.25)))
         .collect();

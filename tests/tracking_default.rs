@@ -32,7 +32,7 @@ fn hand_step(world: &mut PhysicsWorld, layer: &mut ContactLayer, feed: Feed) {
         Feed::None => world.step_with_events(&layer.hooks(), &()),
     }
     layer.analyze(WorldView::from(&*world));
-    layer.validate(world).unwrap();
+    layer.validate(&*world).unwrap();
 }
 
 fn flags_set(world: &PhysicsWorld) -> usize {
@@ -47,19 +47,22 @@ fn flags_set(world: &PhysicsWorld) -> usize {
 fn step_tracks_touching_from_the_first_step() {
     let mut scene = scenes::sphere_pile(60, 3);
     let mut layer = ContactLayer::new();
-    assert_eq!(layer.coherence().requested_tracking(), Tracking::Touching);
+    assert_eq!(
+        layer.analysis().coherence().requested_tracking(),
+        Tracking::Touching
+    );
     assert!(
-        !layer.touching_in_effect(),
+        !layer.analysis().touching_in_effect(),
         "no step has reached Rapier yet"
     );
     for step in 0..120 {
         common::step_validated(&mut scene, &mut layer, step);
         assert_eq!(
-            layer.coherence().tracking(),
+            layer.analysis().coherence().tracking(),
             Tracking::Touching,
             "step {step}"
         );
-        assert!(layer.touching_in_effect());
+        assert!(layer.analysis().touching_in_effect());
     }
     assert_eq!(flags_set(&scene.world), scene.world.colliders.len());
     assert!(layer.graph().edges().all(|(_, e)| e.is_touching()));
@@ -71,8 +74,8 @@ fn a_hand_stepped_loop_without_the_layers_handler_keeps_proximity_and_its_flags(
     let mut layer = ContactLayer::new();
     for _ in 0..150 {
         hand_step(&mut scene.world, &mut layer, Feed::None);
-        assert_eq!(layer.coherence().tracking(), Tracking::Proximity);
-        assert!(!layer.touching_in_effect());
+        assert_eq!(layer.analysis().coherence().tracking(), Tracking::Proximity);
+        assert!(!layer.analysis().touching_in_effect());
         assert_eq!(
             flags_set(&scene.world),
             0,
@@ -120,7 +123,11 @@ fn passing_the_handler_switches_on_and_stopping_switches_back_without_losing_a_t
                 // The first step without it is read in full by proximity tracking.
                 Feed::None => Tracking::Proximity,
             };
-            assert_eq!(layer.coherence().tracking(), want, "step {k} of {steps}");
+            assert_eq!(
+                layer.analysis().coherence().tracking(),
+                want,
+                "step {k} of {steps}"
+            );
             for e in touches.try_iter() {
                 let d = if e.kind == EventKind::ContactStarted {
                     1
@@ -134,7 +141,7 @@ fn passing_the_handler_switches_on_and_stopping_switches_back_without_losing_a_t
             // The event stream never loses or repeats a touch across the switches:
             // what it left open is what the graph holds.
             for &b in &balls {
-                let n = layer.node_of_body(b).unwrap();
+                let n = layer.graph().try_node_of_body(b).unwrap();
                 let edges = layer.graph().touching(n).count() as i64;
                 assert_eq!(open.get(&b).copied().unwrap_or(0), edges, "{b:?} step {k}");
             }
@@ -166,7 +173,7 @@ fn a_persist_subscription_switches_to_proximity_until_it_goes_and_speedups_or_th
         for _ in 0..n {
             common::step_validated(&mut scene, layer, step);
             step += 1;
-            assert_eq!(layer.coherence().tracking(), want, "step {step}");
+            assert_eq!(layer.analysis().coherence().tracking(), want, "step {step}");
         }
     };
     run(&mut layer, 0, 10, Tracking::Touching);
@@ -177,12 +184,15 @@ fn a_persist_subscription_switches_to_proximity_until_it_goes_and_speedups_or_th
     run(&mut layer, 0, 10, Tracking::Touching);
     // The speed-ups and the monitor read what they need from Rapier for the bodies
     // concerned: touching tracking stays.
-    layer.set_speedups(Some(SpeedUps::contact_graph())).unwrap();
+    layer
+        .speedups_mut()
+        .set(Some(SpeedUps::contact_graph()))
+        .unwrap();
     run(&mut layer, 0, 10, Tracking::Touching);
     common::monitor_in(&mut layer, MonitorMode::Repair);
     run(&mut layer, 0, 10, Tracking::Touching);
     common::monitor_in(&mut layer, MonitorMode::Off);
-    layer.set_speedups(None).unwrap();
+    layer.speedups_mut().set(None).unwrap();
     run(&mut layer, 3, 10, Tracking::Touching);
 }
 
@@ -201,16 +211,19 @@ fn the_graphs_normals_are_kept_by_proximity_tracking_only_and_say_so() {
         touching.step(&mut world);
         proximity.step(&mut w2);
     }
-    let n = touching.node_of_body(ball).unwrap();
-    assert!(!touching.coherence().details_kept());
-    assert_eq!(touching.is_supported(n), Err(Error::DetailsNotKept));
+    let n = touching.graph().try_node_of_body(ball).unwrap();
+    assert!(!touching.analysis().coherence().details_kept());
+    assert_eq!(
+        touching.analysis().is_supported(n),
+        Err(Error::DetailsNotKept)
+    );
     // The by-handle query reads Rapier and answers under either tracking.
     assert_eq!(
         touching.supports_of_body(&world, ball, 0.0).unwrap().len(),
         1
     );
-    let m = proximity.node_of_body(ball).unwrap();
-    assert!(proximity.coherence().details_kept());
-    assert_eq!(proximity.is_supported(m), Ok(true));
+    let m = proximity.graph().try_node_of_body(ball).unwrap();
+    assert!(proximity.analysis().coherence().details_kept());
+    assert_eq!(proximity.analysis().is_supported(m), Ok(true));
     assert_eq!(proximity.supports_of_body(&w2, ball, 0.0).unwrap().len(), 1);
 }

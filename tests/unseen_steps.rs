@@ -27,7 +27,7 @@ fn stack(n: usize) -> (PhysicsWorld, Vec<RigidBodyHandle>) {
 /// `validate()` holds, and every body touches what Rapier says it touches.
 fn agrees(layer: &ContactLayer, world: &PhysicsWorld, step: usize) {
     layer
-        .validate(world)
+        .validate(&*world)
         .unwrap_or_else(|e| panic!("step {step}: {e}"));
     for (h, _) in world.bodies.iter() {
         let mine: std::collections::BTreeSet<String> = layer
@@ -53,7 +53,10 @@ fn a_step_the_user_took_directly_is_read_at_the_next_layer_step() {
             continue;
         }
         let stats = layer.step(&mut world);
-        assert!(layer.touching_in_effect(), "step {step}: touching tracking");
+        assert!(
+            layer.analysis().touching_in_effect(),
+            "step {step}: touching tracking"
+        );
         reported += usize::from(stats.walk.unseen_step);
         agrees(&layer, &world, step);
     }

@@ -125,15 +125,15 @@ fn the_users_hooks_see_only_their_pairs_beside_rules_and_speedups() {
     let (mut world, bodies, hooks, colliders) = world();
     let mut layer = ContactLayer::new();
     layer.step(&mut world);
-    let node = |h| layer.node_of_body(h).unwrap();
+    let node = |h| layer.graph().try_node_of_body(h).unwrap();
     let rule = Rule::ignore_pair(node(bodies[8]), node(bodies[12]));
-    layer.add_rule(rule).unwrap();
+    layer.logic_mut().add_rule(rule).unwrap();
     // reduce and zero flag every dynamic collider for contact modification.
     let mut config = SpeedUps::default();
     config.reduce = true;
     config.zero = true;
     config.cache = true;
-    layer.set_speedups(Some(config)).unwrap();
+    layer.speedups_mut().set(Some(config)).unwrap();
     let user_filter: Vec<ColliderHandle> = colliders[..2].to_vec();
     let user_modify: Vec<ColliderHandle> = colliders[2..4].to_vec();
     let mut seen_filter: PairSet = BTreeSet::new();

@@ -187,7 +187,7 @@ fn a_pile_with_the_presets_keeps_warm_start_and_is_held_or_asleep() {
         let params = scene.world.integration_parameters;
         let boxes = scene.dynamic_bodies();
         let mut layer = ContactLayer::new();
-        layer.set_speedups(Some(preset)).unwrap();
+        layer.speedups_mut().set(Some(preset)).unwrap();
         let sleep = layer.subscribe(Filter::kinds(KindSet::SLEEP));
         let mut fell_asleep = BTreeSet::new();
         let mut stats = Default::default();
@@ -209,7 +209,7 @@ fn a_pile_with_the_presets_keeps_warm_start_and_is_held_or_asleep() {
             }
         }
         let still = |h: RigidBodyHandle| {
-            scene.world.bodies[h].is_sleeping() || layer.holds(&scene.world.bodies, h)
+            scene.world.bodies[h].is_sleeping() || layer.analysis().holds(&scene.world.bodies, h)
         };
         assert!(
             boxes.iter().all(|&h| still(h)),

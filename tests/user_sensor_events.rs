@@ -165,7 +165,7 @@ fn a_handler_wired_by_hand_gets_rapiers_own_events_through_the_filter() {
         let mut layered = world();
         let (mine, theirs) = (Recorder::default(), Recorder::default());
         let mut layer = ContactLayer::new();
-        layer.set_trigger_widening(true);
+        layer.logic_mut().set_trigger_widening(true);
         let mut extra = 0;
         for step in 0..240 {
             plain.step_with_events(&(), &mine);
@@ -173,7 +173,7 @@ fn a_handler_wired_by_hand_gets_rapiers_own_events_through_the_filter() {
             {
                 let handler = ByHand {
                     layer: layer.event_handler(),
-                    filter: filtered.then(|| layer.user_event_filter()),
+                    filter: filtered.then(|| layer.analysis().user_event_filter()),
                     mine: &theirs,
                 };
                 layered.step_with_events(&layer.hooks(), &handler);
@@ -240,7 +240,7 @@ fn widening_switched_off_gives_sensors_their_types_back() {
     let mut layer = ContactLayer::new();
     for step in 0..120 {
         if step == 40 {
-            layer.set_trigger_widening(false);
+            layer.logic_mut().set_trigger_widening(false);
         }
         layer.step(&mut world);
         layer

@@ -318,7 +318,7 @@ pub fn run(
     match &spec.mode {
         Mode::Stock => {}
         Mode::Plain { iterations } => rcg_scenes::plain_solver(&mut scene.world, *iterations),
-        Mode::Layer(s) => layer.set_speedups(Some(s.clone()))?,
+        Mode::Layer(s) => layer.speedups_mut().set(Some(s.clone()))?,
     }
     let layered = matches!(spec.mode, Mode::Layer(_));
     if spec.repair && !layered {
@@ -335,8 +335,10 @@ pub fn run(
     // untimed monitor outside the step.
     let mut monitor = Monitor::new(opts.monitor)?;
     if spec.repair {
-        layer.set_monitor(MonitorMode::Repair, opts.monitor, RepairConfig::default())?;
-        layer.prime_monitor(&WorldView::from(&scene.world));
+        layer
+            .monitor_mut()
+            .set(MonitorMode::Repair, opts.monitor, RepairConfig::default())?;
+        layer.monitor_mut().prime(&WorldView::from(&scene.world));
     } else {
         monitor.prime(&WorldView::from(&scene.world));
     }
@@ -367,7 +369,7 @@ pub fn run(
             layer.analyze(WorldView::from(&scene.world))
         };
         if !spec.repair {
-            let held = |h: RigidBodyHandle| layer.holds(&scene.world.bodies, h);
+            let held = |h: RigidBodyHandle| layer.analysis().holds(&scene.world.bodies, h);
             monitor.check(&layer, &WorldView::from(&scene.world), &held, &|_| false);
         }
         let awake = scene

@@ -43,7 +43,7 @@ fn run(
     let mut layer = ContactLayer::with_tracking(Tracking::Proximity);
     match &spec.mode {
         Mode::Stock => {}
-        Mode::Layer(s) => layer.set_speedups(Some(s.clone())).unwrap(),
+        Mode::Layer(s) => layer.speedups_mut().set(Some(s.clone())).unwrap(),
         Mode::Plain { .. } => panic!("the suite's runs are stock or layered: {}", spec.name),
     }
     let mut monitor = Monitor::new(MonitorConfig::default()).unwrap();
@@ -51,7 +51,7 @@ fn run(
     let mut traj = Trajectory::default();
     for step in 0..case.steps {
         common::step_validated(&mut scene, &mut layer, step);
-        let held = |h: RigidBodyHandle| layer.holds(&scene.world.bodies, h);
+        let held = |h: RigidBodyHandle| layer.analysis().holds(&scene.world.bodies, h);
         monitor.check_with_quarantine(
             &layer,
             &WorldView::from(&scene.world),
@@ -390,24 +390,25 @@ fn run_repaired_outcome(
     let mut traj = Trajectory::default();
     let mut layer = ContactLayer::new();
     match &spec.mode {
-        Mode::Layer(s) => layer.set_speedups(Some(s.clone())).unwrap(),
+        Mode::Layer(s) => layer.speedups_mut().set(Some(s.clone())).unwrap(),
         _ => panic!("only layer runs repair: {}", spec.name),
     }
     layer
-        .set_monitor(
+        .monitor_mut()
+        .set(
             MonitorMode::Repair,
             MonitorConfig::default(),
             RepairConfig::default(),
         )
         .unwrap();
-    layer.prime_monitor(&WorldView::from(&scene.world));
+    layer.monitor_mut().prime(&WorldView::from(&scene.world));
     for step in 0..case.steps {
         common::step_validated(&mut scene, &mut layer, step);
         if (step + 1) % stability::SAMPLE_EVERY == 0 || step + 1 == case.steps {
             traj.frames.push(rcg_lab::measure::sample(&scene, &bodies));
         }
     }
-    let t = layer.violation_totals().unwrap();
+    let t = layer.monitor().map(|m| m.monitor().totals()).unwrap();
     let violations = Violations {
         hanging: t.hanging_sleeper,
         launch: t.launch,

@@ -31,7 +31,7 @@
 //! between bodies in place are caught by a signature per refreshed body and a check
 //! of cached owners on use (`owners.rs`). What none of it sees (a fixed body or static
 //! collider moved or retyped in place, a sleeping body changed without waking it)
-//! needs [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync):
+//! needs [`LayerAnalysisMut::request_full_sync`](crate::LayerAnalysisMut::request_full_sync):
 //! O(nodes + pairs), on request only. The design, with the alternatives rejected, is
 //! in `docs/ARCHITECTURE.md`, "What the analysis notices".
 //!

@@ -34,7 +34,7 @@ impl Coherence {
     /// follows Rapier's own (a large sleeping or held scene pays for two slots of each
     /// kind per step, a scene of 512 awake bodies or more for 32), and so does the
     /// time it takes to find a change no Rapier list tells (see
-    /// [`crate::ContactLayer::request_full_sync`]): `slots / budget` steps. O(1).
+    /// [`crate::LayerAnalysisMut::request_full_sync`]): `slots / budget` steps. O(1).
     pub fn verify_budget(&self) -> usize {
         (self.integrated / AWAKE_BODIES_PER_VERIFIED_SLOT)
             .clamp(VERIFY_IDLE_PER_STEP, VERIFY_PER_STEP)

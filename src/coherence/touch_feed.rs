@@ -54,7 +54,7 @@ use super::*;
 ///   that passed the handler (that step's touching pairs are read once, as at every
 ///   switch).
 ///
-/// [`ContactLayer::touching_in_effect`](crate::ContactLayer::touching_in_effect) says
+/// [`LayerAnalysis::touching_in_effect`](crate::LayerAnalysis::touching_in_effect) says
 /// which applies to the next step.
 ///
 /// # What the graph holds, and what it costs
@@ -72,7 +72,7 @@ use super::*;
 ///   the bodies whose contacts changed.
 /// - Pairs that were touching before the feed was attached never send `Started`: the
 ///   touching pairs are read once from the narrow phase when touching tracking starts
-///   and on [`ContactLayer::request_full_sync`](crate::ContactLayer::request_full_sync)
+///   and on [`LayerAnalysisMut::request_full_sync`](crate::LayerAnalysisMut::request_full_sync)
 ///   (O(pairs), on request only).
 ///
 /// # The flags it sets, and the user's events

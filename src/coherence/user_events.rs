@@ -4,7 +4,7 @@
 //!
 //! The layer changes what Rapier reports: touching tracking adds
 //! `ActiveEvents::COLLISION_EVENTS` to colliders that lack it, and trigger widening
-//! ([`ContactLayer::set_trigger_widening`](crate::ContactLayer::set_trigger_widening))
+//! ([`LayerLogicMut::set_trigger_widening`](crate::LayerLogicMut::set_trigger_widening))
 //! widens sensors' collision types. Both make Rapier send events the user never
 //! asked for. Two compositions keep them from the user's handler:
 //! - [`ContactLayer::event_handler_with`](crate::ContactLayer::event_handler_with):
@@ -12,7 +12,7 @@
 //! - wired by hand (the user's handler calls the layer's
 //!   [`event_handler`](crate::ContactLayer::event_handler) for every event): the
 //!   user's handler must handle itself only the events for which
-//!   [`ContactLayer::user_event_filter`](crate::ContactLayer::user_event_filter)
+//!   [`LayerAnalysis::user_event_filter`](crate::LayerAnalysis::user_event_filter)
 //!   `.passes(..)` is true. Without that check it receives the layer's extra events;
 //!   no other composition is supported.
 
@@ -31,7 +31,7 @@ use super::TouchFeed;
 
 /// Which of Rapier's collision events the user would have received without the
 /// layer's flags and widening. Made by
-/// [`ContactLayer::user_event_filter`](crate::ContactLayer::user_event_filter) for a
+/// [`LayerAnalysis::user_event_filter`](crate::LayerAnalysis::user_event_filter) for a
 /// handler wired by hand (see the module docs); [`WithUser`] uses it.
 #[derive(Clone, Copy)]
 pub struct UserEventFilter<'a> {

@@ -11,7 +11,7 @@ use crate::ContactLayer;
 /// gives it; the rules, first match wins, are in the order of the variants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum BodyState {
-    /// Disabled: by [`ContactLayer::set_body_disabled`] (the paper's *passive* body,
+    /// Disabled: by [`LayerLogicMut::set_body_disabled`](crate::LayerLogicMut::set_body_disabled) (the paper's *passive* body,
     /// §3.2) or in Rapier.
     Disabled,
     /// Held: fixated by the `fixate` speed-up (Fig. 17's "fixed", green).
@@ -30,10 +30,6 @@ pub enum BodyState {
     /// Anything else (Fig. 17's "moving"), non-finite velocities included.
     Moving,
 }
-
-renamed_consts!(BodyState:
-    Passive => Disabled, "renamed to BodyState::Disabled, Rapier's word";
-);
 
 impl BodyState {
     /// Every state, in rule order.

@@ -5,7 +5,7 @@
 //!   paper's "safe point" (its second solution). Nothing is sent from inside Rapier's
 //!   step, so a receiver may read the graph (through the layer) while handling events.
 //! - **Which step.** Every event carries the index of the step it describes
-//!   ([`crate::ContactLayer::current_step`] right after that step).
+//!   ([`crate::LayerAnalysis::current_step`] right after that step).
 //! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
 //!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
 //!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
@@ -71,39 +71,29 @@ pub const MAX_CAPACITY: usize = 1 << 24;
 /// Named as Rapier names its collision events (`CollisionEvent::Started` /
 /// `Stopped`): `Contact*` for touching pairs (the paper's touch begin / end),
 /// `Sensor*` for bodies entering and leaving a sensor collider (the paper's trigger
-/// volume), `Proximity*` for narrow-phase pairs. The names of 0.1 remain as
-/// deprecated aliases (`TouchBegin`, `TriggerEnter`, …), and serialised events
-/// written with them still load.
+/// volume), `Proximity*` for narrow-phase pairs.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[repr(u8)]
 pub enum EventKind {
     /// Two bodies came into close proximity (a Rapier narrow-phase pair appeared).
-    #[cfg_attr(feature = "serde", serde(alias = "ProximityBegin"))]
     ProximityStarted = 0,
     /// Two awake bodies stayed in close proximity.
-    #[cfg_attr(feature = "serde", serde(alias = "ProximityPersist"))]
     ProximityPersisted = 1,
     /// Two bodies left close proximity (or one was removed or disabled).
-    #[cfg_attr(feature = "serde", serde(alias = "ProximityEnd"))]
     ProximityStopped = 2,
     /// Two bodies started touching (Rapier's `CollisionEvent::Started` of a
     /// non-sensor pair; the paper's touch begin).
-    #[cfg_attr(feature = "serde", serde(alias = "TouchBegin"))]
     ContactStarted = 3,
     /// Two bodies, one awake, kept touching.
-    #[cfg_attr(feature = "serde", serde(alias = "TouchPersist"))]
     ContactPersisted = 4,
     /// Two bodies stopped touching (Rapier's `CollisionEvent::Stopped`; the paper's
     /// touch end).
-    #[cfg_attr(feature = "serde", serde(alias = "TouchEnd"))]
     ContactStopped = 5,
     /// A body entered a sensor collider (Rapier's `CollisionEvent::Started` with a
     /// sensor; the paper's trigger enter).
-    #[cfg_attr(feature = "serde", serde(alias = "TriggerEnter"))]
     SensorStarted = 6,
     /// A body left a sensor collider (the paper's trigger exit).
-    #[cfg_attr(feature = "serde", serde(alias = "TriggerExit"))]
     SensorStopped = 7,
     /// A timer's period elapsed.
     TimerTick = 8,
@@ -114,7 +104,7 @@ pub enum EventKind {
     /// The plausibility monitor found a violation (paper §8):
     /// `node1` is the body's node, `violation` the kind, `value` the measure. Sent only
     /// with the layer's monitor in report or repair mode
-    /// ([`crate::ContactLayer::set_monitor`]).
+    /// ([`crate::MonitorMut::set`]).
     Violation = 11,
     /// The monitor in repair mode acted to prevent a violation: `node1` is the body's
     /// node, `violation` the kind it prevents, `value` the measure when it acted
@@ -122,17 +112,6 @@ pub enum EventKind {
     /// fraction of the limit).
     Repaired = 12,
 }
-
-renamed_consts!(EventKind:
-    ProximityBegin => ProximityStarted, "renamed to EventKind::ProximityStarted, Rapier's name";
-    ProximityPersist => ProximityPersisted, "renamed to EventKind::ProximityPersisted, Rapier's name";
-    ProximityEnd => ProximityStopped, "renamed to EventKind::ProximityStopped, Rapier's name";
-    TouchBegin => ContactStarted, "renamed to EventKind::ContactStarted, Rapier's name";
-    TouchPersist => ContactPersisted, "renamed to EventKind::ContactPersisted, Rapier's name";
-    TouchEnd => ContactStopped, "renamed to EventKind::ContactStopped, Rapier's name";
-    TriggerEnter => SensorStarted, "renamed to EventKind::SensorStarted, Rapier's name";
-    TriggerExit => SensorStopped, "renamed to EventKind::SensorStopped, Rapier's name";
-);
 
 impl EventKind {
     /// All kinds, in declaration order.
@@ -218,11 +197,6 @@ impl KindSet {
     }
 }
 
-renamed_consts!(KindSet:
-    TOUCH => CONTACT, "renamed to KindSet::CONTACT, Rapier's name";
-    TRIGGER => SENSOR, "renamed to KindSet::SENSOR, Rapier's name";
-);
-
 /// `KindSet::CONTACT | KindSet::SENSOR`, as Rapier's flags combine.
 impl std::ops::BitOr for KindSet {
     type Output = KindSet;
@@ -281,18 +255,14 @@ pub struct Event {
     pub kind: EventKind,
     /// The pair's first node (the paper's *A*: the smaller slot index), the sensor,
     /// the timer, or the body that slept or woke.
-    #[cfg_attr(feature = "serde", serde(alias = "a"))]
     pub node1: NodeId,
     /// The pair's second node (the paper's *B*), or the body entering or leaving the
     /// sensor.
-    #[cfg_attr(feature = "serde", serde(alias = "b"))]
     pub node2: Option<NodeId>,
     /// The Rapier body of `node1`, if it is (or was) a body; for a sensor, the body
     /// carrying its sensor collider.
-    #[cfg_attr(feature = "serde", serde(alias = "body_a"))]
     pub body1: Option<RigidBodyHandle>,
     /// The Rapier body of `node2`, if it is (or was) a body.
-    #[cfg_attr(feature = "serde", serde(alias = "body_b"))]
     pub body2: Option<RigidBodyHandle>,
     /// `node1`'s collider in the collider pair the event is about, as Rapier's
     /// `CollisionEvent` names it (`collider1` / `collider2`, reordered so that
@@ -310,12 +280,12 @@ pub struct Event {
     /// proximity the same way (the touching one while the bodies touch), sensor events
     /// the sensor and a collider of the body inside it. All of the pairs of two
     /// bodies: Rapier's narrow phase (`contact_pair`, `contact_pairs_with`).
-    #[cfg_attr(feature = "serde", serde(default, alias = "collider_a"))]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub collider1: Option<ColliderHandle>,
     /// `node2`'s collider in the event's collider pair, as Rapier's `collider2`: a
     /// collider of `body2` (or the parentless collider `node2` is), or for a sensor
     /// event the collider that entered or left the sensor; see [`Self::collider1`].
-    #[cfg_attr(feature = "serde", serde(default, alias = "collider_b"))]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub collider2: Option<ColliderHandle>,
     /// The tick count of a [`EventKind::TimerTick`] (1 for the first); 0 otherwise.
     pub tick: u64,
@@ -599,37 +569,23 @@ mod tests {
         );
     }
 
-    /// The deprecated names of 0.1 are the renamed kinds and sets, with the same
-    /// discriminants, in expressions and in patterns.
+    /// The kinds keep their discriminants: bincode encodes a kind by index, so
+    /// saved snapshots and events read back the same kinds.
     #[test]
-    #[allow(deprecated)]
-    fn deprecated_kind_names_are_the_new_kinds() {
-        let pairs = [
-            (EventKind::ProximityBegin, EventKind::ProximityStarted),
-            (EventKind::ProximityPersist, EventKind::ProximityPersisted),
-            (EventKind::ProximityEnd, EventKind::ProximityStopped),
-            (EventKind::TouchBegin, EventKind::ContactStarted),
-            (EventKind::TouchPersist, EventKind::ContactPersisted),
-            (EventKind::TouchEnd, EventKind::ContactStopped),
-            (EventKind::TriggerEnter, EventKind::SensorStarted),
-            (EventKind::TriggerExit, EventKind::SensorStopped),
+    fn kinds_keep_their_discriminants() {
+        let kinds = [
+            EventKind::ProximityStarted,
+            EventKind::ProximityPersisted,
+            EventKind::ProximityStopped,
+            EventKind::ContactStarted,
+            EventKind::ContactPersisted,
+            EventKind::ContactStopped,
+            EventKind::SensorStarted,
+            EventKind::SensorStopped,
         ];
-        for (i, (old, new)) in pairs.into_iter().enumerate() {
-            assert_eq!(old, new);
-            assert_eq!(new as u8, i as u8, "discriminants kept");
+        for (i, k) in kinds.into_iter().enumerate() {
+            assert_eq!(k as u8, i as u8);
         }
-        assert!(matches!(EventKind::ContactStarted, EventKind::TouchBegin));
-        assert!(!matches!(EventKind::ContactStopped, EventKind::TouchBegin));
-        assert_eq!(KindSet::TOUCH, KindSet::CONTACT);
-        assert_eq!(KindSet::TRIGGER, KindSet::SENSOR);
-        assert_eq!(
-            KindSet::CONTACT,
-            EventKind::ContactStarted | EventKind::ContactPersisted | EventKind::ContactStopped
-        );
-        assert_eq!(
-            KindSet::SENSOR,
-            EventKind::SensorStarted | EventKind::SensorStopped
-        );
     }
 
     #[test]

@@ -185,7 +185,7 @@ pub fn to_dot(layer: &ContactLayer, options: &DotOptions) -> String {
     let _ = writeln!(
         out,
         "// Contact graph at step {}: {} nodes, {} edges, {} groups.",
-        layer.current_step(),
+        layer.analysis().current_step(),
         layer.graph().node_count(),
         layer.graph().edge_count(),
         layer.groups().len()
@@ -450,8 +450,8 @@ mod tests {
         for _ in 0..5 {
             layer.step(&mut world);
         }
-        let g = layer.node_of_body(ground).unwrap();
-        let b = layer.node_of_body(ball).unwrap();
+        let g = layer.graph().try_node_of_body(ground).unwrap();
+        let b = layer.graph().try_node_of_body(ball).unwrap();
         assert!(layer
             .graph()
             .edge_of_bodies(ground, ball)
@@ -505,7 +505,10 @@ mod tests {
     fn sleeping_bodies_are_dashed() {
         let mut scene = scenes::ball_on_box();
         let layer = run(&mut scene, 400);
-        let ball = layer.node_of_body(scene.body("ball").unwrap()).unwrap();
+        let ball = layer
+            .graph()
+            .try_node_of_body(scene.body("ball").unwrap())
+            .unwrap();
         let node = layer.graph().node(ball).unwrap();
         assert!(!node.is_awake(), "the ball should sleep after 4 s");
         let dot = to_dot(&layer, &DotOptions::default());
@@ -544,7 +547,7 @@ mod tests {
         }
         for insulator in ["ground", "wall"] {
             let h = scene.body(insulator).unwrap();
-            let n = layer.node_of_body(h).unwrap();
+            let n = layer.graph().try_node_of_body(h).unwrap();
             let line = node_line(&dot, n);
             assert!(line.contains(&format!("\\n{insulator}\"")), "{line}");
             assert!(line.contains("style=filled"), "{line}");
@@ -599,8 +602,8 @@ mod tests {
             }
         }
         let (na, nb) = (
-            layer.node_of_body(a).unwrap(),
-            layer.node_of_body(b).unwrap(),
+            layer.graph().try_node_of_body(a).unwrap(),
+            layer.graph().try_node_of_body(b).unwrap(),
         );
 
         let dot = to_dot(&layer, &DotOptions::default());

@@ -43,9 +43,9 @@ fn round(x: f32) -> String {
 /// ```
 pub fn describe(layer: &ContactLayer, name: &dyn Fn(NodeId) -> Option<String>) -> String {
     let graph = layer.graph();
-    let step = layer.current_step();
+    let step = layer.analysis().current_step();
     let label = |n: NodeId| name(n).unwrap_or_else(|| format!("{n:?}"));
-    let stats = layer.stats();
+    let stats = layer.analysis().stats();
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -125,7 +125,7 @@ pub fn describe(layer: &ContactLayer, name: &dyn Fn(NodeId) -> Option<String>) -
             if g.asleep { ", asleep" } else { "" }
         );
     }
-    for e in layer.removed_edges() {
+    for e in layer.analysis().removed_edges() {
         let _ = writeln!(
             s,
             "removed edge {} - {} prox={} touch={}",

@@ -7,7 +7,7 @@
 //! the per-step work touches only the bodies awake now or awake at the last update
 //! (the second set catches bodies that just fell asleep, turned fixed or were removed).
 //! A full scan runs only when the number of bodies or colliders changed, or when the
-//! user asks for one ([`crate::ContactLayer::request_full_sync`]) after changing a
+//! user asks for one ([`crate::LayerAnalysisMut::request_full_sync`]) after changing a
 //! sleeping or fixed body in place.
 
 use rapier3d::dynamics::{RigidBody, RigidBodyType};

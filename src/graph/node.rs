@@ -16,21 +16,17 @@ use super::EdgeId;
 ///
 /// Body kinds take Rapier's names (`Dynamic`, `Fixed`, `Kinematic`; a sensor collider
 /// is a `Sensor`); the paper's names (rigid, scripted, trigger volume) and letters are
-/// in each variant's docs and in [`Self::letter`]. The paper's names of 0.1 remain as
-/// deprecated aliases ([`Self::Rigid`], [`Self::Scripted`], [`Self::Trigger`]), and
-/// serialised data written with them still loads.
+/// in each variant's docs and in [`Self::letter`].
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NodeKind {
     /// (R) a dynamic rigid body (the paper's *rigid* body; Rapier's
     /// `RigidBodyType::Dynamic`).
-    #[cfg_attr(feature = "serde", serde(alias = "Rigid"))]
     Dynamic,
     /// (F) a fixed rigid body, or a collider without a parent body.
     Fixed,
     /// (S) a kinematic rigid body (the paper's *scripted* body; Rapier's
     /// kinematic body types).
-    #[cfg_attr(feature = "serde", serde(alias = "Scripted"))]
     Kinematic,
     /// (L) a dynamic body that is a link of a Rapier multibody.
     Link,
@@ -41,7 +37,6 @@ pub enum NodeKind {
     /// (A) a user rule.
     Rule,
     /// (V) a sensor collider (the paper's *trigger volume*).
-    #[cfg_attr(feature = "serde", serde(alias = "Trigger"))]
     Sensor,
     /// (T) a timer.
     Timer,
@@ -57,12 +52,6 @@ pub enum Category {
     /// Entities without physical influence: A, V, T.
     Logical,
 }
-
-renamed_consts!(NodeKind:
-    Rigid => Dynamic, "renamed to NodeKind::Dynamic, Rapier's name";
-    Scripted => Kinematic, "renamed to NodeKind::Kinematic, Rapier's name";
-    Trigger => Sensor, "renamed to NodeKind::Sensor, Rapier's name";
-);
 
 impl NodeKind {
     /// The paper's symbol letter: R, F, L, S, C, M, A, V, T.
@@ -335,17 +324,11 @@ impl Node {
         self.born_step
     }
     /// Whether the body is disabled (the paper's *passive* body, §3.2: disabled in
-    /// Rapier, by [`crate::ContactLayer::set_body_disabled`] or by the user): it keeps
+    /// Rapier, by [`crate::LayerLogicMut::set_body_disabled`] or by the user): it keeps
     /// its node, handle and user data, but has no physical or geometric edge.
     #[inline]
     pub fn is_body_disabled(&self) -> bool {
         self.passive
-    }
-    /// Renamed to [`Self::is_body_disabled`].
-    #[deprecated(since = "0.2.0", note = "renamed to is_body_disabled, Rapier's word")]
-    #[inline]
-    pub fn is_passive(&self) -> bool {
-        self.is_body_disabled()
     }
     /// The contact group the node is in since the last update (`None` for insulators,
     /// logical nodes and bodies not yet grouped).
@@ -400,23 +383,5 @@ impl ContainerSource {
             ContainerSource::Composite(_) => NodeKind::Composite,
             _ => NodeKind::Multibody,
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::NodeKind;
-
-    /// The deprecated names of 0.1 are the renamed kinds, in expressions and patterns.
-    #[test]
-    #[allow(deprecated)]
-    fn deprecated_kind_names_are_the_new_kinds() {
-        assert_eq!(NodeKind::Rigid, NodeKind::Dynamic);
-        assert_eq!(NodeKind::Scripted, NodeKind::Kinematic);
-        assert_eq!(NodeKind::Trigger, NodeKind::Sensor);
-        assert!(matches!(NodeKind::Dynamic, NodeKind::Rigid));
-        assert_eq!(NodeKind::Rigid.letter(), 'R');
-        assert_eq!(NodeKind::Scripted.letter(), 'S');
-        assert_eq!(NodeKind::Trigger.letter(), 'V');
     }
 }

@@ -30,7 +30,7 @@
 //!   is **deferred**.
 //! - **At most one full split per step**: of the deferred groups, the one with the
 //!   fewest awake members (the sleepiest, as Box2D and Avian choose), then the lowest
-//!   id, is rebuilt by the paper's traversal. [`crate::ContactLayer::settle_groups`]
+//!   id, is rebuilt by the paper's traversal. [`crate::LayerAnalysisMut::settle_groups`]
 //!   rebuilds all of them at once.
 //! - Everything else that changes which bodies may be grouped (a body added, removed,
 //!   made passive, changing kind; under subgrouping a body becoming sleepy or not)
@@ -184,9 +184,7 @@ impl Group {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GroupStats {
-    /// Number of groups (awake and sleeping). (Named `groups` before 0.2, which read
-    /// `stats.groups.groups`; serialised stats with that name still load.)
-    #[cfg_attr(feature = "serde", serde(alias = "groups"))]
+    /// Number of groups (awake and sleeping).
     pub count: usize,
     /// Number of groups with at least one awake member.
     pub awake_groups: usize,

@@ -31,7 +31,7 @@ pub enum Touching {
 impl ContactLayer {
     /// The node of a body in the world, `None` if the layer has not seen it yet; an
     /// error if the world has no such body, or `bodies` is another world's. O(1).
-    fn node_of_live_body(
+    pub(super) fn node_of_live_body(
         &self,
         bodies: &RigidBodySet,
         body: RigidBodyHandle,
@@ -117,18 +117,110 @@ impl ContactLayer {
         let Some(n) = self.node_of_live_body(view.bodies, body)? else {
             return Ok(Vec::new());
         };
-        let scale = self.gravity.abs().max_element();
-        if scale == 0.0 || !scale.is_finite() {
+        let Some(up) = self.up() else {
             return Ok(Vec::new());
-        }
-        let up = -(self.gravity / scale).normalize();
-        // The normal points from the body towards the other: it pushes the body
-        // along -normal.
-        let supports = self.graph.touching(n).filter(|&m| {
-            self.details_from(&view, n, m)
-                .is_some_and(|c| c.touching && (-c.normal).dot(up) > min_cos)
-        });
+        };
+        let supports = self
+            .graph
+            .touching(n)
+            .filter(|&m| self.pushes_up(&view, n, m, up, min_cos));
         Ok(self.touching_of(sorted(supports)))
+    }
+
+    /// Whether `body` is grounded: held up against the gravity of the last analysed
+    /// world by ground (a fixed or kinematic body, or a parentless collider) through
+    /// a chain of supports. A support of a body is what [`Self::supports_of_body`]
+    /// lists with `min_cos = 0.0`: something touching it through a contact whose
+    /// normal pushes it upwards at all. The chain goes down from `body` through the
+    /// dynamic bodies supporting it, theirs, and so on, until one rests on ground: a
+    /// box on a box on the floor is grounded; a ball in the air, a box leaning only
+    /// sideways on a wall, or a stack resting on a body that is itself in the air, is
+    /// not. A fixed or kinematic `body` is grounded only if ground supports it in
+    /// turn (a floor is not).
+    ///
+    /// Answers under either tracking, the default (touching tracking) included: the
+    /// normals are read from Rapier's narrow phase (a body held by the speed-ups
+    /// answers with the contacts it was held with). `Ok(false)` for a body inserted
+    /// since the last step, and under zero or non-finite gravity. `world` is a
+    /// `&PhysicsWorld` or a [`WorldView`] of one's own sets. `Err(UnknownBody)` for a
+    /// body the world lacks (removed), `Err(ForeignWorld)` for another world
+    /// ([`Error::ForeignWorld`]). O(Σ degree × contact pairs over the bodies of the
+    /// chain), at most O(the touching edges of `body`'s contact group × their pairs).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// let cube = |y| (RigidBodyBuilder::dynamic().translation(Vector::new(0.0, y, 0.0)), ColliderBuilder::cuboid(0.5, 0.5, 0.5));
+    /// let (lower, _) = { let (b, c) = cube(1.0); world.insert(b, c) };
+    /// let (upper, _) = { let (b, c) = cube(2.0); world.insert(b, c) };
+    /// let (flying, _) = { let (b, c) = cube(20.0); world.insert(b, c) };
+    /// let mut layer = ContactLayer::new(); // touching tracking, the default
+    /// for _ in 0..30 {
+    ///     layer.step(&mut world);
+    /// }
+    /// assert!(layer.is_grounded(&world, lower).unwrap());
+    /// assert!(layer.is_grounded(&world, upper).unwrap(), "through the lower box");
+    /// assert!(!layer.is_grounded(&world, flying).unwrap());
+    /// ```
+    pub fn is_grounded<'w>(
+        &self,
+        world: impl Into<WorldView<'w>>,
+        body: RigidBodyHandle,
+    ) -> Result<bool> {
+        let view = world.into();
+        self.check_world(&view)?;
+        let Some(start) = self.node_of_live_body(view.bodies, body)? else {
+            return Ok(false);
+        };
+        let Some(up) = self.up() else {
+            return Ok(false);
+        };
+        let mut seen = std::collections::HashSet::from([start]);
+        let mut chain = vec![start];
+        while let Some(n) = chain.pop() {
+            for m in self.graph.touching(n) {
+                if seen.contains(&m) || !self.pushes_up(&view, n, m, up, 0.0) {
+                    continue;
+                }
+                let Some(kind) = self.graph.node(m).map(|x| x.kind()) else {
+                    continue;
+                };
+                if kind.is_insulator() {
+                    return Ok(true);
+                }
+                if kind.is_simulated() {
+                    seen.insert(m);
+                    chain.push(m);
+                }
+            }
+        }
+        Ok(false)
+    }
+
+    /// The unit vector against the gravity of the last analysed world; `None` under
+    /// zero or non-finite gravity. O(1).
+    fn up(&self) -> Option<rapier3d::math::Vector> {
+        let scale = self.gravity.abs().max_element();
+        (scale != 0.0 && scale.is_finite()).then(|| -(self.gravity / scale).normalize())
+    }
+
+    /// Whether `m` touches `n` through a contact whose normal pushes `n` along `up` by
+    /// more than `min_cos` (the normal points from `n` towards `m`: it pushes `n`
+    /// along -normal). O(the contact pairs of the node with fewer colliders).
+    fn pushes_up(
+        &self,
+        view: &WorldView,
+        n: NodeId,
+        m: NodeId,
+        up: rapier3d::math::Vector,
+        min_cos: f32,
+    ) -> bool {
+        self.details_from(view, n, m)
+            .is_some_and(|c| c.touching && (-c.normal).dot(up) > min_cos)
     }
 
     /// The details of the contact between `n` and `m` read from Rapier, with the
@@ -197,7 +289,7 @@ impl ContactLayer {
     /// The bodies and static colliders inside a sensor collider (their colliders
     /// intersect it), sorted by node. Empty for a sensor inserted since the last step;
     /// `Err(UnknownCollider)` for a collider `colliders` lacks, `Err(NotASensor)` for
-    /// one that is not a sensor, `Err(ForeignWorld)` for a set of another world
+    /// one that is not a sensor (a collider of a body or static geometry), `Err(ForeignWorld)` for a set of another world
     /// ([`Error::ForeignWorld`]). O(degree of its trigger).
     pub fn sensor_contents(
         &self,
@@ -247,7 +339,9 @@ impl ContactLayer {
     /// groups off); `Err(UnknownBody)` for a body `bodies` lacks, `Err(ForeignWorld)`
     /// for a set of another world ([`Error::ForeignWorld`]). While the group's
     /// split is deferred ([`crate::Groups::deferred`]) it may also hold bodies that no
-    /// longer touch this one; [`Self::settle_groups`] finishes the split. O(group
+    /// longer touch this one;
+    /// [`LayerAnalysisMut::settle_groups`](super::LayerAnalysisMut::settle_groups)
+    /// finishes the split. O(group
     /// size).
     pub fn group_of_body(
         &self,

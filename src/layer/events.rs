@@ -2,7 +2,7 @@
 
 use crossbeam_channel::Receiver;
 
-use crate::events::{Event, EventBus, Filter, SubscriptionId};
+use crate::events::{Event, Filter, SubscriptionId};
 use crate::Result;
 
 use super::ContactLayer;
@@ -34,7 +34,7 @@ impl ContactLayer {
     }
 
     /// Subscribes on a channel of at most `capacity` events: when it is full, the newest
-    /// events are dropped and counted ([`EventBus::dropped`]); the step never blocks.
+    /// events are dropped and counted ([`EventBus::dropped`](crate::events::EventBus::dropped)); the step never blocks.
     /// A capacity of 0 or above [`crate::events::MAX_CAPACITY`], or a filter naming a
     /// stale node, is an error. O(1).
     pub fn subscribe_bounded(
@@ -51,22 +51,20 @@ impl ContactLayer {
     }
 
     /// Subscribes and returns the subscription's id too (to unsubscribe or read its
-    /// drop count).
+    /// drop count in [`LayerAnalysis::event_bus`](super::LayerAnalysis::event_bus)).
+    /// O(1).
     pub fn subscribe_with_id(&mut self, filter: Filter) -> (SubscriptionId, Receiver<Event>) {
         self.bus.subscribe(filter)
     }
 
-    /// Removes a subscription (dropping the receiver does it too, lazily).
+    /// Removes a subscription (dropping the receiver does it too, lazily); `false` if
+    /// there was none of that id. O(subscriptions).
     pub fn unsubscribe(&mut self, id: SubscriptionId) -> bool {
         self.bus.unsubscribe(id)
     }
 
-    /// The subscriptions and their counters.
-    pub fn event_bus(&self) -> &EventBus {
-        &self.bus
-    }
-
     /// The events generated in the last step (of the kinds some subscription wants).
+    /// O(1).
     pub fn last_events(&self) -> &[Event] {
         &self.events
     }

@@ -1,15 +1,80 @@
-//! The logic layer on the contact layer: rules, timers, passive bodies, containers
-//! and trigger widening (paper §3.2, Table 1).
+//! The logic layer on the contact layer (paper §3.2, Table 1): rules, timers,
+//! passive bodies, containers and trigger widening, behind two small views in the
+//! style of Rapier's sets: [`LayerLogic`] (`layer.logic()`) reads, [`LayerLogicMut`]
+//! (`layer.logic_mut()`) changes. Rules and composites are named by Rapier handles
+//! ([`RuleMember`]); their node forms (`add_rule`, `declare_composite_nodes`) take
+//! node ids. A rule, a timer and a composite are themselves nodes: their node id is
+//! their handle.
 
-use rapier3d::prelude::RigidBodyHandle;
+use rapier3d::prelude::{ColliderHandle, RigidBodyHandle, RigidBodySet};
 
 use crate::graph::{Category, EdgeKind, NodeId, NodeKind, NodeSource};
 use crate::logic::Rule;
-use crate::{Error, Result};
+use crate::{Error, Result, WorldView};
 
 use super::ContactLayer;
 
+/// What a rule names, by Rapier handle or by node: a body, a collider (a sensor
+/// names its trigger; another collider its body, or itself if parentless), or a node
+/// (a body or trigger node of the last analysed step). `From` each, so that the
+/// `ignore_*` calls of [`LayerLogicMut`] take handles as they are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RuleMember {
+    /// A rigid body.
+    Body(RigidBodyHandle),
+    /// A collider: a sensor (its trigger node), or a collider standing for its body
+    /// (a parentless collider stands for itself).
+    Collider(ColliderHandle),
+    /// A node of the graph (the node form).
+    Node(NodeId),
+}
+
+impl From<RigidBodyHandle> for RuleMember {
+    fn from(h: RigidBodyHandle) -> Self {
+        RuleMember::Body(h)
+    }
+}
+
+impl From<ColliderHandle> for RuleMember {
+    fn from(c: ColliderHandle) -> Self {
+        RuleMember::Collider(c)
+    }
+}
+
+impl From<NodeId> for RuleMember {
+    fn from(n: NodeId) -> Self {
+        RuleMember::Node(n)
+    }
+}
+
+/// The logic layer read: rules, timers, refusals ([`ContactLayer::logic`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LayerLogic<'a> {
+    layer: &'a ContactLayer,
+}
+
+/// The logic layer changed: rules, timers, passive bodies, composites, trigger
+/// widening ([`ContactLayer::logic_mut`]). Changes to the graph show at once (a new
+/// rule's node and edges); what touches the Rapier world is applied in the next
+/// pre-step (see [`crate::logic`], "When changes take effect").
+#[derive(Debug)]
+pub struct LayerLogicMut<'a> {
+    layer: &'a mut ContactLayer,
+}
+
 impl ContactLayer {
+    /// The logic layer, read: rules, timers, the last pre-step's refusals (see
+    /// [`LayerLogic`]). O(1).
+    pub fn logic(&self) -> LayerLogic<'_> {
+        LayerLogic { layer: self }
+    }
+
+    /// The logic layer, changed: rules, timers, passive bodies, composites, trigger
+    /// widening (see [`LayerLogicMut`]). O(1).
+    pub fn logic_mut(&mut self) -> LayerLogicMut<'_> {
+        LayerLogicMut { layer: self }
+    }
+
     fn check_rule_member(&self, n: NodeId) -> Result<()> {
         let node = self.graph.try_node(n)?;
         if node.kind().category() != Category::Physical && node.kind() != NodeKind::Sensor {
@@ -21,10 +86,169 @@ impl ContactLayer {
         Ok(())
     }
 
-    /// Adds a rule: a `Rule` node with a logical edge to each body it names. Pairs it
-    /// ignores stop interacting at the next step (their bodies are woken so that resting
-    /// pairs are released too), and their edges end. Every named node must be live and
-    /// a body or trigger, else an error and nothing changes. O(members).
+    /// The node a rule member names, checked against the world. O(1).
+    fn node_of_member(&self, view: &WorldView, m: RuleMember) -> Result<NodeId> {
+        match m {
+            RuleMember::Body(h) => self.node_of_body(view.bodies, h),
+            RuleMember::Collider(c) => self.node_of_collider(view, c),
+            RuleMember::Node(n) => Ok(n),
+        }
+    }
+
+    /// The nodes of rule members, checked against the world (which is checked once).
+    /// O(members).
+    fn nodes_of_members<M: Into<RuleMember> + Copy>(
+        &self,
+        view: &WorldView,
+        members: &[M],
+    ) -> Result<Vec<NodeId>> {
+        self.check_world(view)?;
+        members
+            .iter()
+            .map(|&m| self.node_of_member(view, m.into()))
+            .collect()
+    }
+
+    /// The rules in force (for validation).
+    pub(crate) fn rule_table(&self) -> &crate::logic::RuleTable {
+        self.logic.hooks.table()
+    }
+}
+
+impl<'a> LayerLogic<'a> {
+    /// The rule of a rule node; `None` for any other node. O(log rules).
+    pub fn rule(&self, node: NodeId) -> Option<&'a Rule> {
+        self.layer.logic.rules.get(&node)
+    }
+
+    /// The ticks a timer has fired so far. O(log timers).
+    pub fn timer_ticks(&self, timer: NodeId) -> Result<u64> {
+        self.layer.graph.try_node(timer)?;
+        self.layer
+            .logic
+            .timers
+            .ticks(timer)
+            .ok_or(Error::WrongKind {
+                node: timer,
+                expected: "a timer",
+            })
+    }
+
+    /// The period of a timer. O(log timers).
+    pub fn timer_period(&self, timer: NodeId) -> Result<f64> {
+        self.layer.graph.try_node(timer)?;
+        self.layer
+            .logic
+            .timers
+            .period(timer)
+            .ok_or(Error::WrongKind {
+                node: timer,
+                expected: "a timer",
+            })
+    }
+
+    /// Simulated seconds analysed while a timer existed (the timers' clock). O(1).
+    pub fn simulated_time(&self) -> f64 {
+        self.layer.logic.timers.time()
+    }
+
+    /// What the last pre-step refused or undid because Rapier 0.36 would panic on it,
+    /// each with the body and an [`Error::Unsupported`] saying why: a queued
+    /// [`LayerLogicMut::set_body_disabled`] of a body that had become a dynamic multibody member, or a
+    /// passive body that the user joined to a multibody (made active again). Empty
+    /// almost always; cleared by every pre-step. O(1).
+    pub fn refusals(&self) -> &'a [(RigidBodyHandle, Error)] {
+        &self.layer.logic.refusals
+    }
+
+    /// Whether sensors' collision types are widened (see
+    /// [`LayerLogicMut::set_trigger_widening`]). O(1).
+    pub fn trigger_widening(&self) -> bool {
+        self.layer.logic.widen_sensors
+    }
+}
+
+impl LayerLogicMut<'_> {
+    /// "Ignore this pair": `a` and `b` (bodies, colliders or nodes, see
+    /// [`RuleMember`]) stop interacting at the next step, as [`Self::add_rule`] says;
+    /// returns the rule's node (its handle for [`Self::remove_rule`]). `world` is a
+    /// `&PhysicsWorld` or a [`WorldView`] of one's own sets. Errors, with nothing
+    /// changed: `Err(ForeignWorld)` for another world, `Err(UnknownBody)` /
+    /// `Err(UnknownCollider)` for a handle the world lacks, `Err(UnseenBody)` /
+    /// `Err(UnseenCollider)` for one inserted since the last step, `Err(WrongKind)` for
+    /// a node that is no body or trigger. O(1).
+    ///
+    /// # Example
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier_contact_graph::ContactLayer;
+    ///
+    /// let mut world = PhysicsWorld::new();
+    /// let (floor, _) = world.insert(RigidBodyBuilder::fixed(), ColliderBuilder::cuboid(5.0, 0.5, 5.0));
+    /// let (ghost, _) = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+    ///     ColliderBuilder::ball(0.5),
+    /// );
+    /// let mut layer = ContactLayer::new();
+    /// layer.step(&mut world);
+    /// let rule = layer.logic_mut().ignore_pair(&world, floor, ghost).unwrap();
+    /// for _ in 0..100 {
+    ///     layer.step(&mut world);
+    /// }
+    /// assert!(world.bodies[ghost].translation().y < -1.0, "it fell through the floor");
+    /// layer.logic_mut().remove_rule(rule).unwrap();
+    /// ```
+    pub fn ignore_pair<'w>(
+        &mut self,
+        world: impl Into<WorldView<'w>>,
+        a: impl Into<RuleMember>,
+        b: impl Into<RuleMember>,
+    ) -> Result<NodeId> {
+        let view = world.into();
+        let nodes = self.layer.nodes_of_members(&view, &[a.into(), b.into()])?;
+        self.add_rule(Rule::ignore_pair(nodes[0], nodes[1]))
+    }
+
+    /// "Ignore interactions between group X and group Y" by handles (or nodes): see
+    /// [`Self::ignore_pair`] for the errors. O(|x| + |y|).
+    pub fn ignore_between<'w, X, Y>(
+        &mut self,
+        world: impl Into<WorldView<'w>>,
+        x: &[X],
+        y: &[Y],
+    ) -> Result<NodeId>
+    where
+        X: Into<RuleMember> + Copy,
+        Y: Into<RuleMember> + Copy,
+    {
+        let view = world.into();
+        let x = self.layer.nodes_of_members(&view, x)?;
+        let y = self.layer.nodes_of_members(&view, y)?;
+        self.add_rule(Rule::ignore_between(&x, &y))
+    }
+
+    /// A user predicate over the pairs involving `members` (by handles or nodes; see
+    /// [`Self::ignore_pair`] for the errors). The predicate is asked with the pair's
+    /// nodes, from inside Rapier's step ([`Rule::ignore_if`]); the graph's
+    /// `body_of` gives their handles back. O(members).
+    pub fn ignore_if<'w, M: Into<RuleMember> + Copy>(
+        &mut self,
+        world: impl Into<WorldView<'w>>,
+        members: &[M],
+        ignore: impl Fn(NodeId, NodeId) -> bool + Send + Sync + 'static,
+    ) -> Result<NodeId> {
+        let view = world.into();
+        let nodes = self.layer.nodes_of_members(&view, members)?;
+        self.add_rule(Rule::ignore_if(&nodes, ignore))
+    }
+
+    /// Adds a rule given by nodes (the node form of [`Self::ignore_pair`],
+    /// [`Self::ignore_between`] and [`Self::ignore_if`]): a `Rule` node with a logical
+    /// edge to each body it names. Pairs it ignores stop interacting at the next step
+    /// (their bodies are woken so that resting pairs are released too), and their
+    /// edges end. Every named node must be live and a body or trigger, else an error
+    /// and nothing changes. The node answers as of the last analysed step (a body
+    /// removed since still has one). O(members).
     ///
     /// # Example
     /// ```
@@ -39,8 +263,9 @@ impl ContactLayer {
     /// );
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// let (f, g) = (layer.node_of_body(floor).unwrap(), layer.node_of_body(ghost).unwrap());
-    /// layer.add_rule(Rule::ignore_pair(f, g)).unwrap();
+    /// let f = layer.node_of_body(&world.bodies, floor).unwrap();
+    /// let g = layer.node_of_body(&world.bodies, ghost).unwrap();
+    /// layer.logic_mut().add_rule(Rule::ignore_pair(f, g)).unwrap();
     /// for _ in 0..100 {
     ///     layer.step(&mut world);
     /// }
@@ -55,24 +280,28 @@ impl ContactLayer {
             });
         }
         for &m in &members {
-            self.check_rule_member(m)?;
+            self.layer.check_rule_member(m)?;
         }
-        let serial = self.logic.serial();
+        let serial = self.layer.logic.serial();
         let node = self
+            .layer
             .graph
             .add_node(NodeKind::Rule, NodeSource::Layer(serial));
         for &m in &members {
-            self.graph
-                .ensure_edge(node, m, EdgeKind::Logical, self.coherence.step());
+            self.layer
+                .graph
+                .ensure_edge(node, m, EdgeKind::Logical, self.layer.coherence.step());
         }
-        self.logic.rules.insert(node, rule);
-        self.logic.rules_changed(&members, &self.graph);
+        self.layer.logic.rules.insert(node, rule);
+        self.layer.logic.rules_changed(&members, &self.layer.graph);
         Ok(node)
     }
 
-    /// Removes a rule; the pairs it ignored interact again from the next step.
+    /// Removes a rule (by the node its `add_rule` or `ignore_*` returned); the pairs it
+    /// ignored interact again from the next step. `Err(StaleNode)` for a removed
+    /// node, `Err(WrongKind)` for a node that is not a rule. O(members).
     pub fn remove_rule(&mut self, rule: NodeId) -> Result<Rule> {
-        let kind = self.graph.try_node(rule)?.kind();
+        let kind = self.layer.graph.try_node(rule)?.kind();
         if kind != NodeKind::Rule {
             return Err(Error::WrongKind {
                 node: rule,
@@ -80,28 +309,20 @@ impl ContactLayer {
             });
         }
         let r = self
+            .layer
             .logic
             .rules
             .remove(&rule)
             .ok_or(Error::StaleNode(rule))?;
-        self.graph.remove_node(rule);
+        self.layer.graph.remove_node(rule);
         let members = r.members();
-        self.logic.rules_changed(&members, &self.graph);
+        self.layer.logic.rules_changed(&members, &self.layer.graph);
         Ok(r)
-    }
-
-    /// The rule of a rule node.
-    pub fn rule(&self, node: NodeId) -> Option<&Rule> {
-        self.logic.rules.get(&node)
-    }
-
-    /// The number of colliders carrying hook flags set by the layer (0 without rules).
-    pub fn flagged_colliders(&self) -> usize {
-        self.logic.flagged_colliders()
     }
 
     /// Adds a timer of `period` simulated seconds; it ticks `TimerTick` events (tick 1
     /// one period after now). A period that is not finite and positive is an error.
+    /// O(log timers).
     ///
     /// # Example
     /// ```
@@ -111,12 +332,12 @@ impl ContactLayer {
     /// let mut world = PhysicsWorld::new();
     /// world.integration_parameters.dt = 0.01;
     /// let mut layer = ContactLayer::new();
-    /// let timer = layer.add_timer(0.25).unwrap();
+    /// let timer = layer.logic_mut().add_timer(0.25).unwrap();
     /// for _ in 0..100 {
     ///     layer.step(&mut world);
     /// }
-    /// assert_eq!(layer.timer_ticks(timer).unwrap(), 4);
-    /// assert!(layer.add_timer(-1.0).is_err());
+    /// assert_eq!(layer.logic().timer_ticks(timer).unwrap(), 4);
+    /// assert!(layer.logic_mut().add_timer(-1.0).is_err());
     /// ```
     pub fn add_timer(&mut self, period: f64) -> Result<NodeId> {
         if !period.is_finite() || period < crate::logic::MIN_TIMER_PERIOD {
@@ -128,48 +349,27 @@ impl ContactLayer {
                 ),
             });
         }
-        let serial = self.logic.serial();
+        let serial = self.layer.logic.serial();
         let node = self
+            .layer
             .graph
             .add_node(NodeKind::Timer, NodeSource::Layer(serial));
-        self.logic.timers.add(node, period);
+        self.layer.logic.timers.add(node, period);
         Ok(node)
     }
 
-    /// Removes a timer.
+    /// Removes a timer. `Err(StaleNode)` for a removed node, `Err(WrongKind)` for a
+    /// node that is not a timer. O(log timers).
     pub fn remove_timer(&mut self, timer: NodeId) -> Result<()> {
-        let kind = self.graph.try_node(timer)?.kind();
-        if kind != NodeKind::Timer || !self.logic.timers.remove(timer) {
+        let kind = self.layer.graph.try_node(timer)?.kind();
+        if kind != NodeKind::Timer || !self.layer.logic.timers.remove(timer) {
             return Err(Error::WrongKind {
                 node: timer,
                 expected: "a timer",
             });
         }
-        self.graph.remove_node(timer);
+        self.layer.graph.remove_node(timer);
         Ok(())
-    }
-
-    /// The ticks a timer has fired so far.
-    pub fn timer_ticks(&self, timer: NodeId) -> Result<u64> {
-        self.graph.try_node(timer)?;
-        self.logic.timers.ticks(timer).ok_or(Error::WrongKind {
-            node: timer,
-            expected: "a timer",
-        })
-    }
-
-    /// The period of a timer.
-    pub fn timer_period(&self, timer: NodeId) -> Result<f64> {
-        self.graph.try_node(timer)?;
-        self.logic.timers.period(timer).ok_or(Error::WrongKind {
-            node: timer,
-            expected: "a timer",
-        })
-    }
-
-    /// Simulated seconds analysed while a timer existed (the timers' clock).
-    pub fn simulated_time(&self) -> f64 {
-        self.logic.timers.time()
     }
 
     /// Disables a body (or enables it again) without deallocating it, as Rapier's
@@ -187,7 +387,9 @@ impl ContactLayer {
     /// makes Rapier panic as it would without the layer. O(1).
     ///
     /// # Errors
-    /// - [`Error::UnknownBody`] for a body without node (removed, or not analysed yet);
+    /// - [`Error::UnknownBody`] for a body `bodies` lacks (removed: at once, as every
+    ///   call that takes the world answers), [`Error::UnseenBody`] for one inserted
+    ///   since the last step, [`Error::ForeignWorld`] for a set of another world;
     /// - [`Error::Unsupported`] for `disabled = true` on a dynamic multibody member (a
     ///   `Link` node at the last analysis): Rapier 0.36 does not carry a disabled
     ///   multibody member and panics in its next step. The body is left as it is.
@@ -195,7 +397,7 @@ impl ContactLayer {
     /// The pre-step checks again what the world holds by then: a queued change for a
     /// body that became a dynamic multibody member meanwhile is refused, and a passive
     /// body that became one is made active again. Both are reported by
-    /// [`Self::refusals`] after that pre-step.
+    /// [`LayerLogic::refusals`] after that pre-step.
     ///
     /// # Example
     /// ```
@@ -210,15 +412,20 @@ impl ContactLayer {
     /// );
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// layer.set_body_disabled(ball, true).unwrap();
+    /// layer.logic_mut().set_body_disabled(&world.bodies, ball, true).unwrap();
     /// layer.step(&mut world);
-    /// let node = layer.node_of_body(ball).unwrap(); // same node, same handle
+    /// let node = layer.node_of_body(&world.bodies, ball).unwrap(); // same node, same handle
     /// assert!(layer.graph().node(node).unwrap().is_body_disabled());
     /// assert_eq!(layer.graph().node(node).unwrap().degree(), 0);
     /// ```
-    pub fn set_body_disabled(&mut self, body: RigidBodyHandle, disabled: bool) -> Result<()> {
-        let node = self.graph.try_node_of_body(body)?;
-        if disabled && self.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
+    pub fn set_body_disabled(
+        &mut self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        disabled: bool,
+    ) -> Result<()> {
+        let node = self.layer.node_of_body(bodies, body)?;
+        if disabled && self.layer.graph.node(node).map(|n| n.kind()) == Some(NodeKind::Link) {
             return Err(Error::Unsupported {
                 what: "set_body_disabled(true) on a multibody link",
                 reason: "Rapier 0.36 panics in its next step on a disabled multibody \
@@ -226,29 +433,18 @@ impl ContactLayer {
                          multibody with its members",
             });
         }
-        self.logic.queue_passive(body, node, disabled);
+        self.layer.logic.queue_passive(body, node, disabled);
         Ok(())
-    }
-
-    /// Renamed to [`Self::set_body_disabled`] (Rapier's word for a body out of the
-    /// simulation is *disabled*); forwards to it.
-    #[deprecated(since = "0.2.0", note = "renamed to set_body_disabled, Rapier's name")]
-    pub fn set_passive(&mut self, body: RigidBodyHandle, passive: bool) -> Result<()> {
-        self.set_body_disabled(body, passive)
-    }
-
-    /// What the last pre-step refused or undid because Rapier 0.36 would panic on it,
-    /// each with the body and an [`Error::Unsupported`] saying why: a queued
-    /// [`Self::set_body_disabled`] of a body that had become a dynamic multibody member, or a
-    /// passive body that the user joined to a multibody (made active again). Empty
-    /// almost always; cleared by every pre-step. O(1).
-    pub fn refusals(&self) -> &[(RigidBodyHandle, Error)] {
-        &self.logic.refusals
     }
 
     /// Declares bodies rigidly attached by the user (not by Rapier joints) as a
     /// `Composite` node with structural edges to them: contact groups then treat them as
-    /// one. Members must be live dynamic bodies (`Dynamic`), else an error. O(members).
+    /// one. Returns the composite's node (its handle for [`Self::remove_composite`]).
+    /// Members must be dynamic bodies of `world` the layer has seen; errors, with
+    /// nothing changed: `Err(ForeignWorld)`, `Err(UnknownBody)` for a body the world
+    /// lacks, `Err(UnseenBody)` for one inserted since the last step, `Err(WrongKind)`
+    /// for a body that is not dynamic, `Err(InvalidParameter)` for no body. The node
+    /// form is [`Self::declare_composite_nodes`]. O(members).
     ///
     /// # Example
     /// ```
@@ -263,13 +459,25 @@ impl ContactLayer {
     /// ).0;
     /// let mut layer = ContactLayer::new();
     /// layer.step(&mut world);
-    /// let (na, nb) = (layer.node_of_body(a).unwrap(), layer.node_of_body(b).unwrap());
-    /// layer.declare_composite(&[na, nb]).unwrap();
+    /// layer.logic_mut().declare_composite(&world, &[a, b]).unwrap();
     /// layer.step(&mut world);
-    /// let group = |n| layer.graph().node(n).unwrap().group();
-    /// assert_eq!(group(na), group(nb), "one group through the composite");
+    /// assert_eq!(layer.group_of_body(&world.bodies, a).unwrap().len(), 2, "one group through the composite");
     /// ```
-    pub fn declare_composite(&mut self, bodies: &[NodeId]) -> Result<NodeId> {
+    pub fn declare_composite<'w>(
+        &mut self,
+        world: impl Into<WorldView<'w>>,
+        bodies: &[RigidBodyHandle],
+    ) -> Result<NodeId> {
+        let view = world.into();
+        let nodes = self.layer.nodes_of_members(&view, bodies)?;
+        self.declare_composite_nodes(&nodes)
+    }
+
+    /// [`Self::declare_composite`] by nodes: members must be live dynamic bodies
+    /// (`Dynamic`) as of the last analysed step, else an error (`Err(StaleNode)`,
+    /// `Err(WrongKind)`) and nothing changes. O(members).
+    ///
+    pub fn declare_composite_nodes(&mut self, bodies: &[NodeId]) -> Result<NodeId> {
         if bodies.is_empty() {
             return Err(Error::InvalidParameter {
                 name: "bodies",
@@ -277,7 +485,7 @@ impl ContactLayer {
             });
         }
         for &b in bodies {
-            let kind = self.graph.try_node(b)?.kind();
+            let kind = self.layer.graph.try_node(b)?.kind();
             if kind != NodeKind::Dynamic {
                 return Err(Error::WrongKind {
                     node: b,
@@ -285,23 +493,30 @@ impl ContactLayer {
                 });
             }
         }
-        let serial = self.logic.serial();
+        let serial = self.layer.logic.serial();
         let node = self
+            .layer
             .graph
             .add_node(NodeKind::Composite, NodeSource::Layer(serial));
         for &b in bodies {
-            self.graph
-                .ensure_edge(node, b, EdgeKind::Structural, self.coherence.step());
-            self.groups.disturb(&mut self.graph, b);
+            self.layer.graph.ensure_edge(
+                node,
+                b,
+                EdgeKind::Structural,
+                self.layer.coherence.step(),
+            );
+            self.layer.groups.disturb(&mut self.layer.graph, b);
         }
-        self.logic.declared.insert(node, bodies.to_vec());
+        self.layer.logic.declared.insert(node, bodies.to_vec());
         Ok(node)
     }
 
-    /// Removes a declared composite (not one derived from joints).
+    /// Removes a declared composite (not one derived from joints); its bodies are
+    /// regrouped at the next analysis. O(members).
     pub fn remove_composite(&mut self, composite: NodeId) -> Result<()> {
-        self.graph.try_node(composite)?;
+        self.layer.graph.try_node(composite)?;
         let members = self
+            .layer
             .logic
             .declared
             .remove(&composite)
@@ -309,12 +524,12 @@ impl ContactLayer {
                 node: composite,
                 expected: "a declared composite",
             })?;
-        if let Some(g) = self.graph.node(composite).and_then(|n| n.group()) {
-            self.groups.dissolve(&mut self.graph, g);
+        if let Some(g) = self.layer.graph.node(composite).and_then(|n| n.group()) {
+            self.layer.groups.dissolve(&mut self.layer.graph, g);
         }
-        self.graph.remove_node(composite);
+        self.layer.graph.remove_node(composite);
         for b in members {
-            self.groups.disturb(&mut self.graph, b);
+            self.layer.groups.disturb(&mut self.layer.graph, b);
         }
         Ok(())
     }
@@ -330,9 +545,9 @@ impl ContactLayer {
     /// widened types while the layer is attached (`detach` gives the user's back, and
     /// so does switching it off), and Rapier reports more sensor pairs; a user's own
     /// event handler composed with
-    /// [`Self::event_handler_with`] still receives only the sensor events the user's
-    /// own types give; one wired by hand around [`Self::event_handler`] must check
-    /// [`Self::user_event_filter`] (no other composition is supported). Sensors never
+    /// [`ContactLayer::event_handler_with`] still receives only the sensor events the user's
+    /// own types give; one wired by hand around [`ContactLayer::event_handler`] must check
+    /// [`LayerAnalysis::user_event_filter`](super::LayerAnalysis::user_event_filter) (no other composition is supported). Sensors never
     /// push bodies, but widening is not observe-only: a widened sensor pairs with the
     /// kinematic bodies inside it, which keeps them awake where plain Rapier lets them
     /// sleep, and widening a sensor Rapier has already stepped makes Rapier evaluate
@@ -344,13 +559,8 @@ impl ContactLayer {
     /// pairs colliders that do not move only when they appear, so a sensor that was
     /// stepped before the layer saw it does not see fixed bodies already inside it;
     /// attach the layer before the first step, or build such sensors with
-    /// `ActiveCollisionTypes::all()`.
+    /// `ActiveCollisionTypes::all()`. O(1).
     pub fn set_trigger_widening(&mut self, on: bool) {
-        self.logic.widen_sensors = on;
-    }
-
-    /// The rules in force (for validation).
-    pub(crate) fn rule_table(&self) -> &crate::logic::RuleTable {
-        self.logic.hooks.table()
+        self.layer.logic.widen_sensors = on;
     }
 }

@@ -3,13 +3,18 @@
 //!
 //! `ContactLayer`'s `impl` is split across files by task, as Rapier splits
 //! `impl NarrowPhase` by phase:
-//! - `step.rs`: `step`, `pre_step`, `analyze` (paper §3, §5, Fig. 11);
-//! - `queries.rs`: the graph, groups, nodes of Rapier handles, support, `validate`;
+//! - `step.rs`: `step`, `pre_step`, `analyze`, `detach` (paper §3, §5, Fig. 11);
+//! - `queries.rs`: the graph, groups, nodes of Rapier handles, tracking, the event
+//!   handler, `validate`;
 //! - `by_handle.rs`: queries by Rapier handle (what touches a body, what holds it
-//!   up, what is inside a sensor, a body's group);
+//!   up, whether it is grounded, what is inside a sensor, a body's group);
 //! - `events.rs`: subscriptions (§4, Table 3);
-//! - `logic.rs`: rules, timers, passive bodies, containers, trigger widening (§3.2);
-//! - `speedups.rs`: the speed-ups (§7), the monitor (§8) and the hooks Rapier calls.
+//! - `logic.rs`: the views `logic()` / `logic_mut()`: rules, timers, passive bodies,
+//!   containers, trigger widening (§3.2);
+//! - `speedups.rs`: `speedups_mut()` and `monitor_mut()`, the speed-ups (§7), the
+//!   monitor (§8), and the hooks Rapier calls;
+//! - `analysis.rs`: the views `analysis()` / `analysis_mut()`: what the last
+//!   analysis read and found, and how it reads.
 
 use crate::coherence::{Coherence, WalkCounters};
 use crate::events::{Event, EventBus};
@@ -19,6 +24,7 @@ use crate::logic::Logic;
 use crate::monitor::LayerMonitor;
 use crate::speedups::SpeedUpState;
 
+mod analysis;
 mod by_handle;
 mod events;
 mod logic;
@@ -26,7 +32,10 @@ mod queries;
 mod speedups;
 mod step;
 
+pub use analysis::{LayerAnalysis, LayerAnalysisMut};
 pub use by_handle::Touching;
+pub use logic::{LayerLogic, LayerLogicMut, RuleMember};
+pub use speedups::{MonitorMut, SpeedUpsMut};
 
 /// Statistics of one step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -48,7 +57,7 @@ pub struct StepStats {
     /// Events generated in the step (before filtering per subscription).
     pub events: usize,
     /// Violations the monitor found in the step (0 with the monitor off; see
-    /// [`ContactLayer::set_monitor`]).
+    /// [`MonitorMut::set`]).
     pub violations: usize,
 }
 
@@ -75,7 +84,8 @@ pub struct StepStats {
 /// assert_eq!(layer.touching_body(&world.bodies, ball).unwrap().len(), 1);
 /// let supports = layer.supports_of_body(&world, ball, 0.0).unwrap();
 /// assert_eq!(supports.len(), 1, "the ball rests on the ground");
-/// let node = layer.graph().try_node_of_body(ball).unwrap();
+/// assert!(layer.is_grounded(&world, ball).unwrap());
+/// let node = layer.node_of_body(&world.bodies, ball).unwrap();
 /// assert_eq!(layer.graph().node(node).unwrap().kind(), NodeKind::Dynamic);
 /// layer.validate(&world).unwrap();
 /// ```
@@ -84,37 +94,41 @@ pub struct StepStats {
 /// - **Stepping:** [`Self::step`]; or [`Self::pre_step`], Rapier's step with
 ///   [`Self::hooks`] / [`Self::hooks_with`] and [`Self::event_handler`] /
 ///   [`Self::event_handler_with`], then [`Self::analyze`]; [`Self::detach`] gives the
-///   world back as the user left it.
+///   world back as the user left it. [`Self::set_tracking`] (or
+///   [`Self::with_tracking`]) chooses how contacts are followed.
 /// - **Who touches what, by Rapier handle:** [`Self::touching_body`],
-///   [`Self::supports_of_body`], [`Self::contact_details`].
-/// - **Sensors:** [`Self::sensor_contents`], [`Self::sensors_containing`],
-///   [`Self::set_trigger_widening`].
-/// - **Contact groups:** [`Self::group_of_body`], [`Self::groups`],
-///   [`Self::settle_groups`], [`Self::set_group_split_budget`], [`Self::grouping`],
-///   [`Self::insulates`].
+///   [`Self::supports_of_body`], [`Self::is_grounded`], [`Self::contact_details`],
+///   [`Self::sensor_contents`], [`Self::sensors_containing`],
+///   [`Self::group_of_body`]; [`Self::last_events_of_body`].
 /// - **Events:** [`Self::subscribe`], [`Self::subscribe_bounded`],
-///   [`Self::subscribe_with_id`], [`Self::unsubscribe`], [`Self::last_events`],
-///   [`Self::last_events_of_body`].
-/// - **Cost:** [`Self::set_tracking`], [`Self::touching_in_effect`],
-///   [`Self::set_contact_details`], [`Self::stats`].
-/// - **The graph by node** (for what has no Rapier handle: rules, timers,
-///   containers): [`Self::graph`], [`Self::node_of_body`], [`Self::node_of_collider`],
-///   [`Self::is_supported`], [`Self::kind_of`], [`Self::touched_edges`],
-///   [`Self::removed_edges`], [`Self::removed_nodes`].
-/// - **Rules, timers, passive bodies, containers:** [`Self::add_rule`],
-///   [`Self::remove_rule`], [`Self::add_timer`], [`Self::remove_timer`],
-///   [`Self::set_body_disabled`], [`Self::declare_composite`].
-/// - **Speed-ups and the monitor:** [`Self::set_speedups`], [`Self::speedups`],
-///   [`Self::set_monitor`], [`Self::monitor`], [`Self::holds`].
-/// - **Checking and syncing:** [`Self::validate`], [`Self::validate_view`],
-///   [`Self::request_full_sync`].
+///   [`Self::subscribe_with_id`], [`Self::unsubscribe`], [`Self::last_events`].
+/// - **The graph and its groups, by node** (for what has no Rapier handle):
+///   [`Self::graph`], [`Self::groups`], and the bridges [`Self::node_of_body`] and
+///   [`Self::node_of_collider`], checked against the world.
+/// - **Checking and saving:** [`Self::validate`], [`Self::snapshot`],
+///   [`Self::restore`], [`Self::restore_with`].
+/// - **Rules, timers, passive bodies, composites, trigger widening:** the views
+///   [`Self::logic`] ([`LayerLogic`]) and [`Self::logic_mut`] ([`LayerLogicMut`]),
+///   e.g. `layer.logic_mut().ignore_pair(&world, a, b)`.
+/// - **Speed-ups and the monitor:** [`Self::speedups`] and [`Self::speedups_mut`]
+///   ([`SpeedUpsMut`]), [`Self::monitor`] and [`Self::monitor_mut`]
+///   ([`MonitorMut`]).
+/// - **Diagnostics and tuning:** [`Self::analysis`] ([`LayerAnalysis`]: statistics,
+///   the step's edge and node changes, subscription counters, the held predicate)
+///   and [`Self::analysis_mut`] ([`LayerAnalysisMut`]: pair walk, per-edge details,
+///   group split budget and settling, full rescan).
+///
+/// A handle or world the layer cannot answer for is an [`Error`](crate::Error),
+/// each its own: another world's sets `ForeignWorld`, a removed body `UnknownBody`,
+/// a body inserted since the last step `UnseenBody` (or an empty answer where the
+/// query says so), a collider that is not a sensor `NotASensor`.
 ///
 /// Observe-only unless asked: without rules it sets no hook flag on any collider, and
 /// the hooks it hands Rapier are then never called, so attaching it changes nothing
 /// in Rapier's results (tested bit for bit). Under touching tracking (the default) it
 /// adds `ActiveEvents::COLLISION_EVENTS` to colliders (which changes no result, and
 /// `detach` takes off); sensors' collision types are widened only on request
-/// ([`Self::set_trigger_widening`]).
+/// ([`LayerLogicMut::set_trigger_widening`]).
 #[derive(Debug)]
 pub struct ContactLayer {
     graph: ContactGraph,
@@ -166,7 +180,7 @@ impl ContactLayer {
 
     /// A layer with an empty graph; the first update fills it from the world. It
     /// tracks touching contacts from Rapier's events where it can (see
-    /// [`Tracking`](crate::coherence::Tracking)).
+    /// [`Tracking`](crate::coherence::Tracking)). O(1).
     pub fn new() -> Self {
         Self {
             graph: ContactGraph::default(),

@@ -4,13 +4,63 @@
 use rapier3d::prelude::RigidBodyHandle;
 
 use crate::logic::hooks::HooksView;
-use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig, ViolationCounts};
+use crate::monitor::{LayerMonitor, MonitorConfig, MonitorMode, RepairConfig};
 use crate::speedups::{SpeedUpState, SpeedUps};
 use crate::{Result, WorldView};
 
 use super::ContactLayer;
 
-impl ContactLayer {
+/// The speed-ups switched on, off or reconfigured: [`ContactLayer::speedups_mut`]
+/// (read them with [`ContactLayer::speedups`]).
+#[derive(Debug)]
+pub struct SpeedUpsMut<'a> {
+    layer: &'a mut ContactLayer,
+}
+
+/// The layer's plausibility monitor set and fed: [`ContactLayer::monitor_mut`] (read
+/// it with [`ContactLayer::monitor`]).
+#[derive(Debug)]
+pub struct MonitorMut<'a> {
+    layer: &'a mut ContactLayer,
+}
+
+impl SpeedUpsMut<'_> {
+    /// Switches the paper's speed-ups on (`Some`) or off (`None`), at any time. The
+    /// configuration is validated first: invalid parameters are an error and change
+    /// nothing. See [`crate::speedups`] for what each switch does to the world.
+    ///
+    /// Switching them off releases fixated bodies and restores the hook flags,
+    /// damping, sleep thresholds and solver parameters the speed-ups changed to the
+    /// user's own, in the next pre-step (see [`crate::speedups::SpeedUps`] for every
+    /// setting a preset changes). O(1), plus O(groups) when the subgrouping switch
+    /// changes (the groups are rebuilt at the next analysis).
+    pub fn set(&mut self, config: Option<SpeedUps>) -> Result<()> {
+        match config {
+            Some(c) => {
+                c.validate()?;
+                let was = self.layer.speedups().map(|s| s.config().subgroup);
+                if was.unwrap_or(false) != c.subgroup {
+                    self.layer.regroup_all();
+                }
+                match &mut self.layer.speedups {
+                    Some(s) => s.reconfigure(c),
+                    None => self.layer.speedups = Some(SpeedUpState::new(c)),
+                }
+            }
+            None => {
+                if self.layer.speedups().is_some_and(|s| s.config().subgroup) {
+                    self.layer.regroup_all();
+                }
+                if let Some(s) = &mut self.layer.speedups {
+                    s.detach();
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl MonitorMut<'_> {
     /// Sets the plausibility monitor ([`crate::monitor`], paper §8) the layer runs
     /// after each analysis: [`MonitorMode::Off`] removes it; [`MonitorMode::Report`]
     /// counts violations ([`StepStats::violations`](crate::StepStats::violations)) and sends them as
@@ -33,14 +83,15 @@ impl ContactLayer {
     /// );
     /// let mut layer = ContactLayer::new();
     /// layer
-    ///     .set_monitor(MonitorMode::Repair, MonitorConfig::default(), RepairConfig::default())
+    ///     .monitor_mut()
+    ///     .set(MonitorMode::Repair, MonitorConfig::default(), RepairConfig::default())
     ///     .unwrap();
     /// for _ in 0..100 {
     ///     assert_eq!(layer.step(&mut world).violations, 0);
     /// }
-    /// assert_eq!(layer.violation_totals().unwrap().total(), 0);
+    /// assert_eq!(layer.monitor().unwrap().monitor().totals().total(), 0);
     /// ```
-    pub fn set_monitor(
+    pub fn set(
         &mut self,
         mode: MonitorMode,
         config: MonitorConfig,
@@ -49,99 +100,60 @@ impl ContactLayer {
         config.validate()?;
         repair.validate()?;
         if mode == MonitorMode::Off {
-            if let Some(m) = self.monitor.take() {
-                self.monitor_restore = Some(m);
+            if let Some(m) = self.layer.monitor.take() {
+                self.layer.monitor_restore = Some(m);
             }
             return Ok(());
         }
-        match &mut self.monitor {
+        match &mut self.layer.monitor {
             Some(m) if m.monitor.config() == &config && m.repair_config() == &repair => {
                 m.set_mode(mode);
             }
             _ => {
-                if let Some(old) = self.monitor.take() {
-                    self.monitor_restore = Some(old);
+                if let Some(old) = self.layer.monitor.take() {
+                    self.layer.monitor_restore = Some(old);
                 }
-                self.monitor = Some(LayerMonitor::new(mode, config, repair)?);
+                self.layer.monitor = Some(LayerMonitor::new(mode, config, repair)?);
             }
         }
         Ok(())
     }
 
-    /// Whether the body `h` is *held* in place: fixated by the speed-ups (made fixed in
-    /// Rapier until released) or asleep in Rapier (read from `bodies`). Not whether
-    /// the layer knows the body: a removed handle answers `false`, and so does every
-    /// handle of a set of another world (told as [`crate::Error::ForeignWorld`] says;
-    /// a predicate has no error to give). This is the `held` predicate a
-    /// [`crate::monitor::Monitor`] run outside the layer takes, and what the layer's
-    /// own monitor uses. O(log fixated bodies).
-    pub fn holds(&self, bodies: &rapier3d::prelude::RigidBodySet, h: RigidBodyHandle) -> bool {
-        if !self.coherence.bodies_match(&self.graph, bodies) {
-            return false;
-        }
-        self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
-            || bodies.get(h).is_some_and(|b| b.is_sleeping())
-    }
-
     /// Primes the monitor's launch check with the world as it is now (see
     /// [`crate::monitor::Monitor::prime`]): call it before the first step. No-op with
     /// the monitor off. O(bodies).
-    pub fn prime_monitor(&mut self, view: &WorldView) {
-        if let Some(m) = &mut self.monitor {
-            m.monitor.prime(view);
+    pub fn prime<'w>(&mut self, world: impl Into<WorldView<'w>>) {
+        if let Some(m) = &mut self.layer.monitor {
+            m.monitor.prime(&world.into());
         }
-    }
-
-    /// The layer's monitor, if it is on. O(1).
-    pub fn monitor(&self) -> Option<&LayerMonitor> {
-        self.monitor.as_ref()
-    }
-
-    /// Violations per kind since the layer's monitor was set (`None` with the monitor
-    /// off): short for `self.monitor().map(|m| m.monitor().totals())`. O(1).
-    pub fn violation_totals(&self) -> Option<ViolationCounts> {
-        self.monitor.as_ref().map(|m| m.monitor.totals())
     }
 
     /// Tells the monitor that the caller pushed `body` before this step (set its
     /// velocity, applied an impulse or a force): its contact group gets no launch check
     /// in the step's analysis. Stale handles are ignored. O(1).
     pub fn mark_pushed(&mut self, body: RigidBodyHandle) {
-        if let Some(m) = &mut self.monitor {
+        if let Some(m) = &mut self.layer.monitor {
             m.pushed.push(body);
         }
     }
+}
 
-    /// Switches the paper's speed-ups on (`Some`) or off (`None`), at any time. The
-    /// configuration is validated first: invalid parameters are an error and change
-    /// nothing. See [`crate::speedups`] for what each switch does to the world.
-    ///
-    /// Switching them off releases fixated bodies and restores the hook flags and
-    /// damping the speed-ups changed, in the next pre-step; Rapier's sleep thresholds
-    /// go back to Rapier's defaults.
-    pub fn set_speedups(&mut self, config: Option<SpeedUps>) -> Result<()> {
-        match config {
-            Some(c) => {
-                c.validate()?;
-                let was = self.speedups().map(|s| s.config().subgroup);
-                if was.unwrap_or(false) != c.subgroup {
-                    self.regroup_all();
-                }
-                match &mut self.speedups {
-                    Some(s) => s.reconfigure(c),
-                    None => self.speedups = Some(SpeedUpState::new(c)),
-                }
-            }
-            None => {
-                if self.speedups().is_some_and(|s| s.config().subgroup) {
-                    self.regroup_all();
-                }
-                if let Some(s) = &mut self.speedups {
-                    s.detach();
-                }
-            }
-        }
-        Ok(())
+impl ContactLayer {
+    /// The speed-ups switched on, off or reconfigured (see [`SpeedUpsMut`]). O(1).
+    pub fn speedups_mut(&mut self) -> SpeedUpsMut<'_> {
+        SpeedUpsMut { layer: self }
+    }
+
+    /// The plausibility monitor set, primed and told of pushes (see [`MonitorMut`]).
+    /// O(1).
+    pub fn monitor_mut(&mut self) -> MonitorMut<'_> {
+        MonitorMut { layer: self }
+    }
+
+    /// The layer's monitor, if it is on: its detectors' totals
+    /// (`monitor().map(|m| m.monitor().totals())`), mode and repairs. O(1).
+    pub fn monitor(&self) -> Option<&LayerMonitor> {
+        self.monitor.as_ref()
     }
 
     /// Dissolves every group (their bodies are regrouped at the next analysis), when
@@ -159,14 +171,15 @@ impl ContactLayer {
         self.speedups.as_ref().is_some_and(|s| s.is_fixated(h))
     }
 
-    /// The speed-ups' state, if they are on.
+    /// The speed-ups' state, if they are on: configuration, held and sleepy bodies.
+    /// O(1).
     pub fn speedups(&self) -> Option<&SpeedUpState> {
         self.speedups.as_ref().filter(|s| !s.is_detached())
     }
 
     /// The physics hooks to give Rapier when stepping it yourself (see
     /// [`HooksView`]). Rapier calls them only for colliders the layer flagged (rule
-    /// members, and the colliders a contact speed-up concerns).
+    /// members, and the colliders a contact speed-up concerns). O(1) to make.
     pub fn hooks(&self) -> HooksView<'_> {
         HooksView {
             state: &self.logic.hooks,

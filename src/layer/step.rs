@@ -35,7 +35,9 @@ impl ContactLayer {
     /// Applies the queued logical changes to the world (hook flags of rule members,
     /// passive bodies, trigger collision types, the speed-ups' fixations), after
     /// checking them against the world as it is now: what Rapier would panic on is
-    /// refused or guarded (see [`Self::set_body_disabled`] and [`Self::refusals`]).
+    /// refused or guarded (see
+    /// [`LayerLogicMut::set_body_disabled`](super::LayerLogicMut::set_body_disabled) and
+    /// [`LayerLogic::refusals`](super::LayerLogic::refusals)).
     /// [`Self::step`] calls it; users who step Rapier themselves call it before each
     /// step and pass [`Self::hooks`] to Rapier. O(1) when nothing is queued and no body
     /// is passive; O(passive bodies) while some are (their joints are checked when the
@@ -140,34 +142,9 @@ impl ContactLayer {
         self.logic.release(&self.graph, &mut world);
     }
 
-    /// Finishes every deferred group split now, so that [`Self::groups`] equals a
-    /// from-scratch traversal of the paper's Figs. 7–8 exactly. Without it, a group
-    /// whose split the bounded local search could not settle is split by traversal in
-    /// a later step (one per step, the sleepiest first), and meanwhile holds two or
-    /// more whole groups (see [`crate::Groups::deferred`]). O(members + edges of the
-    /// deferred groups); O(1) when none is deferred.
-    pub fn settle_groups(&mut self) {
-        if self.groups.deferred().is_empty() || !self.grouping() {
-            return;
-        }
-        let speedups = self.speedups.as_ref();
-        let step = self.coherence.step();
-        self.groups
-            .settle(&mut self.graph, step, &|g, n| insulates(g, n, speedups));
-        self.stats.groups = self.groups.stats();
-    }
-
-    /// Sets how many node expansions the local search after an ended contact may make
-    /// before it defers the group's split ([`crate::Groups::DEFAULT_SPLIT_BUDGET`] by
-    /// default, Rapier's own figure). A larger budget splits more groups at once, a
-    /// smaller one bounds the cost of an ended contact more tightly. O(1).
-    pub fn set_group_split_budget(&mut self, budget: u32) {
-        self.groups.set_split_budget(budget);
-    }
-
     /// The post-step analysis alone, for users who step Rapier themselves (their own
     /// `PhysicsPipeline::step` or `PhysicsWorld::step_with_events`). Call it once after
-    /// every step.
+    /// every step. Cost: as [`Self::step`]'s analysis.
     pub fn analyze(&mut self, view: WorldView) -> StepStats {
         self.gravity = view.gravity;
         let force = std::mem::take(&mut self.logic.force);

@@ -5,7 +5,7 @@
 //! - articulations built from impulse joints: the simulated bodies joined by impulse
 //!   joints form connected components; a component whose joints are all fixed joints
 //!   is a `Composite` (bodies rigidly attached), any other one a `Multibody`;
-//! - composites declared by the user ([`crate::ContactLayer::declare_composite`]).
+//! - composites declared by the user ([`crate::LayerLogicMut::declare_composite`]).
 //!
 //! Fixed and kinematic bodies never join a container: they insulate (a pendulum hung
 //! from the world is a mechanism of its moving links, not of the world).

@@ -209,7 +209,7 @@ impl MonitorConfig {
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Violation {
-    /// The layer's step it was found in ([`ContactLayer::current_step`](crate::ContactLayer::current_step)).
+    /// The layer's step it was found in ([`LayerAnalysis::current_step`](crate::LayerAnalysis::current_step)).
     pub step: u64,
     /// What went wrong.
     pub kind: ViolationKind,
@@ -301,7 +301,7 @@ pub struct Peaks {
 /// edges' caches under proximity tracking with the details kept and otherwise from
 /// Rapier, with the same figures. It judges the same under either tracking, the default
 /// included. The layer's own monitor
-/// ([`ContactLayer::set_monitor`](crate::ContactLayer::set_monitor)) does the same.
+/// ([`MonitorMut::set`](crate::MonitorMut::set)) does the same.
 ///
 /// # Example
 /// ```
@@ -344,7 +344,7 @@ pub struct Monitor {
 /// What the monitor reads of a layer's last analysis: the graph, the contact groups,
 /// the analysis' record of what it refreshed and removed, and the speed-ups' state.
 /// The monitor takes this view, not the layer, so that it sits below the layer
-/// (`docs/ARCHITECTURE.md` §2). `ContactLayer::analysis_view` makes one, and
+/// (`docs/ARCHITECTURE.md` §2). `LayerAnalysis::view` makes one, and
 /// `&ContactLayer` converts into one, so `monitor.check(&layer, ...)` reads as before.
 /// Copying it is free (references and a step number).
 #[derive(Clone, Copy, Debug)]

@@ -176,7 +176,7 @@ pub struct RepairCounts {
     pub thickened: u64,
 }
 
-/// The monitor a [`crate::ContactLayer`] owns (see [`crate::ContactLayer::set_monitor`]).
+/// The monitor a [`crate::ContactLayer`] owns (see [`crate::MonitorMut::set`]).
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LayerMonitor {

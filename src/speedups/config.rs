@@ -11,7 +11,7 @@ use crate::{Error, Result};
 ///
 /// # What the speed-ups change in your world
 /// Only what the switch asked for is the speed-up; each is given back at `detach`
-/// (or `set_speedups(None)`, at the next pre-step) as the user last set it:
+/// (or `speedups_mut().set(None)`, at the next pre-step) as the user last set it:
 /// - any configuration: every dynamic body's sleep thresholds (the layer decides
 ///   when bodies sleep; with `sleepy` off nothing sleeps);
 /// - `iterations` / `tweak`: the solver's `num_solver_iterations` (`None` and no
@@ -161,7 +161,7 @@ impl SpeedUps {
     /// `docs/results.md`.
     ///
     /// The other presets: observe only is no speed-ups at all
-    /// (`set_speedups(None)`, the layer's default); [`Self::papers_fastest`].
+    /// (`speedups_mut().set(None)`, the layer's default); [`Self::papers_fastest`].
     pub fn reliable_sleep() -> Self {
         Self {
             cache: true,

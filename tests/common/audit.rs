@@ -123,7 +123,7 @@ pub fn foreign_nodes(n: NodeId) -> [NodeId; 3] {
 pub fn stale_node(layer: &mut ContactLayer, world: &mut PhysicsWorld) -> (NodeId, RigidBodyHandle) {
     let (h, _) = box_at(world, [3.0, 1.0, 0.0], 0.5);
     layer.step(world);
-    let n = layer.node_of_body(h).unwrap();
+    let n = layer.graph().try_node_of_body(h).unwrap();
     world.remove_body(h);
     layer.step(world);
     assert!(layer.graph().node(n).is_none(), "{n:?} is stale");
@@ -135,8 +135,8 @@ pub fn fingerprint(layer: &ContactLayer) -> (usize, usize, usize, usize) {
     (
         layer.graph().node_count(),
         layer.graph().edge_count(),
-        layer.flagged_colliders(),
-        layer.event_bus().len(),
+        layer.analysis().flagged_colliders(),
+        layer.analysis().event_bus().len(),
     )
 }
 

@@ -132,3 +132,17 @@ pub fn rapier_touching(
     }
     out
 }
+
+/// A stack of `n` dynamic cubes of half extent `half`, the lowest resting at `base`
+/// (its centre), each next one `2 * half` above; returns them from the bottom up.
+pub fn stack_of_boxes(
+    world: &mut PhysicsWorld,
+    base: impl Into<Vector>,
+    n: usize,
+    half: Real,
+) -> Vec<RigidBodyHandle> {
+    let base = base.into();
+    (0..n)
+        .map(|i| box_at(world, base + Vector::Y * (2.0 * half * i as Real), half).0)
+        .collect()
+}

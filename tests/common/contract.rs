@@ -214,19 +214,19 @@ impl ContractLog {
             prox,
             self.prox,
             "proximity spans vs graph at step {}",
-            layer.current_step()
+            layer.analysis().current_step()
         );
         assert_eq!(
             touch,
             self.touch,
             "touch spans vs graph at step {}",
-            layer.current_step()
+            layer.analysis().current_step()
         );
         assert_eq!(
             inside,
             self.inside,
             "trigger spans vs graph at step {}",
-            layer.current_step()
+            layer.analysis().current_step()
         );
     }
 }

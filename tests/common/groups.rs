@@ -17,7 +17,7 @@ pub fn components(layer: &ContactLayer) -> BTreeSet<BTreeSet<NodeId>> {
     let mut uf = UnionFind::<usize>::new(slots);
     let member = |n: NodeId| {
         let node = g.node(n).unwrap();
-        node.kind().is_simulated() && !node.is_body_disabled() && !layer.insulates(n)
+        node.kind().is_simulated() && !node.is_body_disabled() && !layer.analysis().insulates(n)
     };
     for (_, e) in g.edges() {
         let joins = match e.kind() {

@@ -77,7 +77,7 @@ impl DebugRenderBackend for Recorder {
 pub fn run(layer: &mut ContactLayer, world: &mut PhysicsWorld, steps: usize) {
     for _ in 0..steps {
         layer.step(world);
-        layer.validate(world).unwrap();
+        layer.validate(&*world).unwrap();
     }
 }
 

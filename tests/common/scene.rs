@@ -136,6 +136,7 @@ pub fn format_events(events: &[rapier_contact_graph::Event], names: &Names) -> S
 pub fn monitor_in(layer: &mut ContactLayer, mode: rapier_contact_graph::monitor::MonitorMode) {
     use rapier_contact_graph::monitor::{MonitorConfig, RepairConfig};
     layer
-        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .monitor_mut()
+        .set(mode, MonitorConfig::default(), RepairConfig::default())
         .expect("the default monitor settings are valid");
 }

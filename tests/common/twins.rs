@@ -33,7 +33,7 @@ pub fn debug_lines(layer: &ContactLayer) -> Vec<String> {
 }
 
 pub fn validated(name: &str, side: &str, step: u64, layer: &ContactLayer, world: &PhysicsWorld) {
-    if let Err(e) = layer.validate(world) {
+    if let Err(e) = layer.validate(&*world) {
         panic!("{name}: {side} layer invalid after step {step}: {e}");
     }
 }
@@ -107,16 +107,16 @@ impl Twins {
         assert!(layer.unsubscribe(sub));
         let bytes = save(&scene.world, &layer);
         let (world, snap) = load(&bytes);
-        assert_eq!(snap.step(), layer.current_step());
+        assert_eq!(snap.step(), layer.analysis().current_step());
         let copy = ContactLayer::restore_with(&snap, &world, bind)
             .unwrap_or_else(|e| panic!("{}: restore failed: {e}", scene.name));
         assert_eq!(
-            copy.event_bus().len(),
+            copy.analysis().event_bus().len(),
             0,
             "no subscriptions after a restore"
         );
         assert_eq!(copy.last_events(), layer.last_events());
-        assert_eq!(copy.stats(), layer.stats());
+        assert_eq!(copy.analysis().stats(), layer.analysis().stats());
         assert_eq!(
             describe(&copy, &|_| None),
             describe(&layer, &|_| None),
@@ -199,8 +199,8 @@ impl Twins {
             self.name
         );
         assert_eq!(
-            a.layer.stats(),
-            b.layer.stats(),
+            a.layer.analysis().stats(),
+            b.layer.analysis().stats(),
             "{}: stats at step {step}",
             self.name
         );
@@ -252,23 +252,34 @@ pub fn logic_scene() -> (Scene, ContactLayer, NodeId, RigidBodyHandle) {
 
     let mut layer = ContactLayer::new();
     crate::common::run_validated(&mut scene, &mut layer, 0, 1);
-    let n = |h| layer.node_of_body(h).unwrap();
+    let n = |h| layer.graph().try_node_of_body(h).unwrap();
     let (g, nghost, npicky, nsleeper) = (n(ground), n(ghost), n(picky), n(sleeper));
     let (nb1, nb2) = (n(b1), n(b2));
-    layer.add_rule(Rule::ignore_pair(g, nghost)).unwrap();
     layer
+        .logic_mut()
+        .add_rule(Rule::ignore_pair(g, nghost))
+        .unwrap();
+    layer
+        .logic_mut()
         .add_rule(Rule::ignore_between(&[nb1], &[nb2]))
         .unwrap();
     let predicate = layer
+        .logic_mut()
         .add_rule(Rule::ignore_if(&[npicky], picky_predicate(g)))
         .unwrap();
-    layer.add_timer(0.07).unwrap();
-    layer.add_timer(0.25).unwrap();
-    layer.declare_composite(&[nb1, nb2]).unwrap();
-    layer.set_body_disabled(sleeper, true).unwrap();
+    layer.logic_mut().add_timer(0.07).unwrap();
+    layer.logic_mut().add_timer(0.25).unwrap();
+    layer
+        .logic_mut()
+        .declare_composite_nodes(&[nb1, nb2])
+        .unwrap();
+    layer
+        .logic_mut()
+        .set_body_disabled(&scene.world.bodies, sleeper, true)
+        .unwrap();
     let _ = nsleeper;
     let (c, r) = (MonitorConfig::default(), RepairConfig::default());
-    layer.set_monitor(MonitorMode::Report, c, r).unwrap();
+    layer.monitor_mut().set(MonitorMode::Report, c, r).unwrap();
     (scene, layer, predicate, sleeper)
 }
 

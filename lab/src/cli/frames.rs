@@ -97,7 +97,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let label = speedups.label();
     let mut layer = ContactLayer::new();
     layer
-        .set_speedups(Some(speedups))
+        .speedups_mut()
+        .set(Some(speedups))
         .map_err(|e| e.to_string())?;
     let mode = if args.repair {
         MonitorMode::Repair
@@ -105,9 +106,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         MonitorMode::Report
     };
     layer
-        .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+        .monitor_mut()
+        .set(mode, MonitorConfig::default(), RepairConfig::default())
         .map_err(|e| e.to_string())?;
-    layer.prime_monitor(&WorldView::from(&scene.world));
+    layer.monitor_mut().prime(&WorldView::from(&scene.world));
 
     let view = match args.view {
         ViewArg::Side => View::SIDE,

@@ -242,19 +242,23 @@ pub fn run(config: &Config, build: Builder, params: &DisturbParams) -> Result<Ru
         }
         Setting::Stock => (false, false, false),
         Setting::Layer { speedups, repair } => {
-            layer.set_speedups(Some(speedups.clone())).map_err(fail)?;
+            layer
+                .speedups_mut()
+                .set(Some(speedups.clone()))
+                .map_err(fail)?;
             (true, *repair, false)
         }
     };
     if repair {
         layer
-            .set_monitor(
+            .monitor_mut()
+            .set(
                 MonitorMode::Repair,
                 MonitorConfig::default(),
                 RepairConfig::default(),
             )
             .map_err(fail)?;
-        layer.prime_monitor(&WorldView::from(&d.scene.world));
+        layer.monitor_mut().prime(&WorldView::from(&d.scene.world));
     } else {
         monitor.prime(&WorldView::from(&d.scene.world));
     }
@@ -287,7 +291,7 @@ pub fn run(config: &Config, build: Builder, params: &DisturbParams) -> Result<Ru
         }
         if !repair {
             let world = &d.scene.world;
-            let held = |h: RigidBodyHandle| layer.holds(&world.bodies, h);
+            let held = |h: RigidBodyHandle| layer.analysis().holds(&world.bodies, h);
             monitor.check(&layer, &WorldView::from(world), &held, &|_| false);
         }
     }

@@ -31,7 +31,8 @@ impl Harness {
         // active set, so the layer cannot see the change.
         let seen_asleep = self
             .layer
-            .node_of_body(h)
+            .graph()
+            .try_node_of_body(h)
             .ok()
             .and_then(|n| self.layer.graph().node(n))
             .is_some_and(|n| !n.is_awake());
@@ -60,9 +61,9 @@ impl Harness {
     /// `request_full_sync()` where the docs ask for it: on every layer on the world
     /// (each is told of a change in place, as its own user would tell it).
     pub(super) fn full_sync(&mut self) {
-        self.layer.request_full_sync();
+        self.layer.analysis_mut().request_full_sync();
         if let Some(l) = &mut self.second {
-            l.request_full_sync();
+            l.analysis_mut().request_full_sync();
         }
     }
 

@@ -54,12 +54,16 @@ impl Harness {
                     self.diverge();
                     // An error only for a body the layer has not seen yet, or for a
                     // `Link` node (refused).
-                    let node = self.layer.node_of_body(h).ok();
+                    let node = self.layer.graph().try_node_of_body(h).ok();
                     let link = node
                         .and_then(|n| self.layer.graph().node(n))
                         .map(|n| n.kind())
                         == Some(NodeKind::Link);
-                    match self.layer.set_body_disabled(h, on) {
+                    match self
+                        .layer
+                        .logic_mut()
+                        .set_body_disabled(&self.world.bodies, h, on)
+                    {
                         Ok(()) if on && link => {
                             return Err(format!("set_body_disabled({h:?}, true) on a link: Ok"))
                         }
@@ -94,6 +98,7 @@ impl Harness {
                     self.diverge();
                     let r = self
                         .layer
+                        .logic_mut()
                         .add_rule(Rule::ignore_pair(x, y))
                         .map_err(|e| format!("add_rule(ignore_pair({x:?}, {y:?})): {e}"))?;
                     self.rules.push(r);
@@ -107,6 +112,7 @@ impl Harness {
                     self.diverge();
                     let r = self
                         .layer
+                        .logic_mut()
                         .add_rule(Rule::ignore_between(&x, &y))
                         .map_err(|e| format!("add_rule(ignore_between({x:?}, {y:?})): {e}"))?;
                     self.rules.push(r);
@@ -115,6 +121,7 @@ impl Harness {
             Op::RemoveRule(i) => {
                 if let Some(r) = pick(&self.rules, i) {
                     self.layer
+                        .logic_mut()
                         .remove_rule(r)
                         .map_err(|e| format!("remove_rule({r:?}): {e}"))?;
                     self.rules.retain(|&x| x != r);
@@ -132,7 +139,8 @@ impl Harness {
                 if !members.is_empty() {
                     let c = self
                         .layer
-                        .declare_composite(&members)
+                        .logic_mut()
+                        .declare_composite_nodes(&members)
                         .map_err(|e| format!("declare_composite({members:?}): {e}"))?;
                     self.composites.push(c);
                 }
@@ -140,6 +148,7 @@ impl Harness {
             Op::RemoveComposite(i) => {
                 if let Some(c) = pick(&self.composites, i) {
                     self.layer
+                        .logic_mut()
                         .remove_composite(c)
                         .map_err(|e| format!("remove_composite({c:?}): {e}"))?;
                     self.composites.retain(|&x| x != c);
@@ -148,6 +157,7 @@ impl Harness {
             Op::Timer(p) => {
                 let t = self
                     .layer
+                    .logic_mut()
                     .add_timer(0.02 * f64::from(p % 10 + 1))
                     .map_err(|e| format!("add_timer: {e}"))?;
                 self.timers.push(t);
@@ -155,6 +165,7 @@ impl Harness {
             Op::RemoveTimer(i) => {
                 if let Some(t) = pick(&self.timers, i) {
                     self.layer
+                        .logic_mut()
                         .remove_timer(t)
                         .map_err(|e| format!("remove_timer({t:?}): {e}"))?;
                     self.timers.retain(|&x| x != t);
@@ -238,7 +249,8 @@ impl Harness {
                     self.diverge();
                 }
                 self.layer
-                    .set_speedups(bits.map(SpeedUps::combination))
+                    .speedups_mut()
+                    .set(bits.map(SpeedUps::combination))
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
             Op::Monitor(on) => {
@@ -248,12 +260,14 @@ impl Harness {
                     MonitorMode::Off
                 };
                 self.layer
-                    .set_monitor(mode, MonitorConfig::default(), RepairConfig::default())
+                    .monitor_mut()
+                    .set(mode, MonitorConfig::default(), RepairConfig::default())
                     .map_err(|e| format!("set_monitor: {e}"))?;
             }
             Op::Preset => {
                 self.layer
-                    .set_speedups(self.config.speedups())
+                    .speedups_mut()
+                    .set(self.config.speedups())
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
             Op::User(who, call) => self.user_call(who, call)?,
@@ -268,7 +282,7 @@ impl Harness {
             } else {
                 rapier_contact_graph::coherence::Tracking::Proximity
             }),
-            Op::FullSync => self.layer.request_full_sync(),
+            Op::FullSync => self.layer.analysis_mut().request_full_sync(),
             _ => unreachable!("a world operation: {op:?}"),
         }
         Ok(())

@@ -34,7 +34,7 @@ impl Harness {
         let held: Vec<RigidBodyHandle> = all
             .iter()
             .copied()
-            .filter(|&h| self.layer.holds(&self.world.bodies, h))
+            .filter(|&h| self.layer.analysis().holds(&self.world.bodies, h))
             .collect();
         let parked: Vec<RigidBodyHandle> = self
             .layer
@@ -75,7 +75,7 @@ impl Harness {
             return Ok(());
         };
         self.counters.user_calls += 1;
-        if self.layer.holds(&self.world.bodies, h) {
+        if self.layer.analysis().holds(&self.world.bodies, h) {
             self.counters.user_calls_held += 1;
         }
         match call {
@@ -263,11 +263,11 @@ impl Harness {
         // `tests/fuzz_regressions_unseen.rs`).
         let types = sensor_types(&self.world);
         if self.steer && types != self.second_types {
-            l.request_full_sync();
+            l.analysis_mut().request_full_sync();
         }
         l.step(&mut self.world);
         self.second_types = sensor_types(&self.world);
-        let step = l.current_step();
+        let step = l.analysis().current_step();
         self.counters.second_steps += 1;
         self.quarantined
             .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));

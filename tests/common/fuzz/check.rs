@@ -22,13 +22,13 @@ impl Harness {
             rules: self
                 .rules
                 .iter()
-                .filter_map(|&r| self.layer.rule(r).cloned())
+                .filter_map(|&r| self.layer.logic().rule(r).cloned())
                 .collect(),
             passive: self
                 .passive
                 .values()
                 .filter(|a| a.disabled && self.world.bodies.contains(a.handle))
-                .filter_map(|a| self.layer.node_of_body(a.handle).ok())
+                .filter_map(|a| self.layer.graph().try_node_of_body(a.handle).ok())
                 .collect(),
         }
     }
@@ -39,7 +39,7 @@ impl Harness {
         self.layer.step(&mut self.world);
         // What the pre-step refused or undid (a body made passive that had become a
         // multibody member) was not passive during the step.
-        for &(h, ref e) in self.layer.refusals() {
+        for &(h, ref e) in self.layer.logic().refusals() {
             if !matches!(e, Error::Unsupported { .. }) {
                 return Err(format!("refusal of {h:?} is not Unsupported: {e}"));
             }
@@ -61,7 +61,7 @@ impl Harness {
                 Some(a) => self.passive.insert(raw(h), a),
                 None => self.passive.remove(&raw(h)),
             };
-            if let Ok(n) = self.layer.node_of_body(h) {
+            if let Ok(n) = self.layer.graph().try_node_of_body(h) {
                 if !now.is_some_and(|a| a.disabled) {
                     in_force.passive.remove(&n);
                 }
@@ -75,11 +75,12 @@ impl Harness {
         (self.added, self.removed) = (false, false);
         self.pending.clear();
         self.counters.steps += 1;
-        if self.layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching
+        if self.layer.analysis().coherence().tracking()
+            == rapier_contact_graph::coherence::Tracking::Touching
         {
             self.counters.touching_steps += 1;
         }
-        let step = self.layer.current_step();
+        let step = self.layer.analysis().current_step();
         self.quarantined
             .extend(self.world.quarantine().bodies().iter().map(|&h| raw(h)));
         self.step_twin()
@@ -99,11 +100,13 @@ impl Harness {
 
         // 1. validate(), and the touching oracle.
         layer
-            .validate(world)
+            .validate(&*world)
             .map_err(|e| format!("validate() failed: {e}"))?;
         self.counters.touching_pairs += touching_agrees(layer, world)?;
         // Under touching tracking no kind that needs every pair read is generated.
-        if layer.coherence().tracking() == rapier_contact_graph::coherence::Tracking::Touching {
+        if layer.analysis().coherence().tracking()
+            == rapier_contact_graph::coherence::Tracking::Touching
+        {
             if let Some(e) = layer
                 .last_events()
                 .iter()
@@ -173,7 +176,8 @@ impl Harness {
         for (h, rb) in world.bodies.iter() {
             let enabled = rb.is_enabled() || parking.contains(&h);
             let n = layer
-                .node_of_body(h)
+                .graph()
+                .try_node_of_body(h)
                 .map_err(|e| format!("body {h:?} has no node: {e}"))?;
             let node = layer.graph().node(n).ok_or("dead node")?;
             let want_awake = active.contains(&h) && node.kind() != NodeKind::Fixed;
@@ -242,13 +246,13 @@ impl Harness {
         let view = WorldView::from(world);
         // The fresh layer tracks what the layer tracked at this step (touching
         // tracking holds touching pairs only, and counts collider pairs as contacts).
-        let mut fresh = ContactLayer::with_tracking(layer.coherence().tracking());
+        let mut fresh = ContactLayer::with_tracking(layer.analysis().coherence().tracking());
         // The feed "reached" this analysis (it had nothing to miss: the switch to
         // touching tracking reads the touching pairs).
         let _ = fresh.event_handler();
         fresh.analyze(view);
         fresh
-            .validate_view(&view)
+            .validate(&view)
             .map_err(|e| format!("the fresh layer fails validate(): {e}"))?;
 
         // The screen of validate(): the layer's rules, disabled bodies.
@@ -260,7 +264,7 @@ impl Harness {
         let rules: Vec<&Rule> = layer
             .graph()
             .nodes_of_kind(NodeKind::Rule)
-            .filter_map(|(id, _)| layer.rule(id))
+            .filter_map(|(id, _)| layer.logic().rule(id))
             .collect();
         let disabled = |k: Key| match k {
             Key::Body(i, g) => world

@@ -219,18 +219,20 @@ impl Harness {
         let world = arena();
         let twin = config.observe_only().then(arena);
         let mut layer = ContactLayer::new();
-        layer.set_trigger_widening(config.widening());
+        layer.logic_mut().set_trigger_widening(config.widening());
         if let Some(t) = config.tracking() {
             layer.set_tracking(t);
         }
         if let Some(s) = config.speedups() {
             layer
-                .set_speedups(Some(s))
+                .speedups_mut()
+                .set(Some(s))
                 .expect("a preset's speed-ups are valid");
         }
         if config.monitor() {
             layer
-                .set_monitor(
+                .monitor_mut()
+                .set(
                     MonitorMode::Repair,
                     MonitorConfig::default(),
                     RepairConfig::default(),

@@ -31,7 +31,7 @@ impl Ty {
 pub enum Who {
     /// Any body, in Rapier's slot order.
     Any(u8),
-    /// A body the layer holds (`ContactLayer::holds`: fixated by the speed-ups, or
+    /// A body the layer holds (`LayerAnalysis::holds`: fixated by the speed-ups, or
     /// asleep in Rapier).
     Held(u8),
     /// A held body the speed-ups took out of Rapier's active set

@@ -50,7 +50,7 @@ pub(super) fn touching_agrees(layer: &ContactLayer, world: &PhysicsWorld) -> Res
         .collect();
     let rules: Vec<&Rule> = g
         .nodes_of_kind(NodeKind::Rule)
-        .filter_map(|(id, _)| layer.rule(id))
+        .filter_map(|(id, _)| layer.logic().rule(id))
         .collect();
     let body = |k: Key| match k {
         Key::Body(i, gen) => world.bodies.get(RigidBodyHandle::from_raw_parts(i, gen)),

@@ -280,7 +280,7 @@ mod tests {
         let mut layer = ContactLayer::new();
         let sleepy_only = SpeedUps::contact_graph();
         let steps = sleepy_only.sleepy_steps;
-        layer.set_speedups(Some(sleepy_only)).unwrap();
+        layer.speedups_mut().set(Some(sleepy_only)).unwrap();
         let mut seen_sleepy = false;
         for _ in 0..steps * 5 {
             layer.step(&mut world);
@@ -298,7 +298,8 @@ mod tests {
         let mut world = rcg_scenes::sphere_stack(2).world;
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps {
+            .speedups_mut()
+            .set(Some(SpeedUps {
                 fixate: true,
                 ..SpeedUps::contact_graph()
             }))
