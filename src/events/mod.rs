@@ -7,31 +7,18 @@
 //! - **Which step.** Every event carries the index of the step it describes
 //!   ([`crate::ContactLayer::current_step`] right after that step).
 //! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
-//!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
-//!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
-//!   `collider1` / `collider2` name a pair's two colliders. Every contact, proximity
-//!   and sensor event names the collider pair Rapier reported (`collider1` of
-//!   `body1`, `collider2` of `body2`; for a sensor event the sensor and the collider
-//!   that entered or left it); two bodies touching through several collider pairs
-//!   are one pair of nodes, and their events name one collider pair, chosen as
-//!   [`Event::collider1`] says.
-//! - **Normals.** One convention everywhere: a normal points from the first thing
-//!   named to the second, as Rapier's contact manifold normal points from its
-//!   `collider1` to its `collider2`. An event's [`Event::normal`] points from `node1`
-//!   (`body1`, `collider1`) towards `node2`, which it pushes away; the graph's
-//!   [`ContactCache::normal`](crate::ContactCache::normal) (and `push`) from the
-//!   edge's *A* to its *B*, which are the events' `node1` and `node2`;
+//!   `node2` the other; for sensor events `node1` is the sensor. `body1` /
+//!   `collider1` are `node1`'s; a pair touching through several collider pairs names
+//!   one, chosen as [`Event::collider1`] says.
+//! - **Normals** point from the first thing named to the second, as Rapier's manifold
+//!   normal: an event's [`Event::normal`] from `node1` towards `node2`, an edge's
+//!   [`ContactCache::normal`](crate::ContactCache::normal) from *A* to *B*,
 //!   [`ContactLayer::contact_details(w, body, other)`](crate::ContactLayer::contact_details)
-//!   from `body` towards `other`. So for a ball resting on a box inserted before it
-//!   (`body1` the box), the event's normal is `(0, 1, 0)`, the edge's too,
-//!   `contact_details(w, box_body, ball)` answers `(0, 1, 0)` and
-//!   `contact_details(w, ball, box_body)` answers `(0, -1, 0)`: the same contact,
-//!   seen from either side (`tests/normal_convention.rs`).
+//!   from `body` towards `other` (`tests/normal_convention.rs`).
 //! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
 //!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
-//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
-//!   proximity span;
-//!   `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
+//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, nested inside the
+//!   proximity span; `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
 //!   passive) ends every span it is part of, in the step the layer sees it go.
 //! - **Persisted events** are sent only for pairs with an awake body; the pairs of
 //!   sleeping bodies are frozen (queries on the graph stay exact for them).
@@ -578,89 +565,4 @@ impl ViolationKind {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Rapier's collision events: contact and sensor starts and stops, nothing that
-    /// needs every pair read.
-    #[test]
-    fn collision_events_are_rapiers_started_and_stopped() {
-        let want = KindSet::of(&[
-            EventKind::ContactStarted,
-            EventKind::ContactStopped,
-            EventKind::SensorStarted,
-            EventKind::SensorStopped,
-        ]);
-        assert_eq!(KindSet::COLLISION_EVENTS, want);
-        assert!(!KindSet::COLLISION_EVENTS.intersects(KindSet::NEEDS_EVERY_PAIR));
-        assert_eq!(
-            KindSet::COLLISION_EVENTS,
-            (KindSet::CONTACT | KindSet::SENSOR).without(KindSet::NEEDS_EVERY_PAIR)
-        );
-    }
-
-    /// The deprecated names of 0.1 are the renamed kinds and sets, with the same
-    /// discriminants, in expressions and in patterns.
-    #[test]
-    #[allow(deprecated)]
-    fn deprecated_kind_names_are_the_new_kinds() {
-        let pairs = [
-            (EventKind::ProximityBegin, EventKind::ProximityStarted),
-            (EventKind::ProximityPersist, EventKind::ProximityPersisted),
-            (EventKind::ProximityEnd, EventKind::ProximityStopped),
-            (EventKind::TouchBegin, EventKind::ContactStarted),
-            (EventKind::TouchPersist, EventKind::ContactPersisted),
-            (EventKind::TouchEnd, EventKind::ContactStopped),
-            (EventKind::TriggerEnter, EventKind::SensorStarted),
-            (EventKind::TriggerExit, EventKind::SensorStopped),
-        ];
-        for (i, (old, new)) in pairs.into_iter().enumerate() {
-            assert_eq!(old, new);
-            assert_eq!(new as u8, i as u8, "discriminants kept");
-        }
-        assert!(matches!(EventKind::ContactStarted, EventKind::TouchBegin));
-        assert!(!matches!(EventKind::ContactStopped, EventKind::TouchBegin));
-        assert_eq!(KindSet::TOUCH, KindSet::CONTACT);
-        assert_eq!(KindSet::TRIGGER, KindSet::SENSOR);
-        assert_eq!(
-            KindSet::CONTACT,
-            EventKind::ContactStarted | EventKind::ContactPersisted | EventKind::ContactStopped
-        );
-        assert_eq!(
-            KindSet::SENSOR,
-            EventKind::SensorStarted | EventKind::SensorStopped
-        );
-    }
-
-    #[test]
-    fn kind_sets_combine_with_bitor() {
-        assert_eq!(
-            KindSet::CONTACT | KindSet::SENSOR,
-            KindSet::CONTACT.union(KindSet::SENSOR)
-        );
-        let mut k = KindSet::NONE;
-        k |= KindSet::SLEEP;
-        assert_eq!(k, KindSet::SLEEP);
-        assert_eq!(
-            EventKind::ContactStarted | EventKind::ContactStopped,
-            KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped])
-        );
-        let with = KindSet::CONTACT | EventKind::FellAsleep;
-        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::ContactStarted));
-        assert!(!with.contains(EventKind::WokeUp));
-        assert_eq!(
-            KindSet::from(EventKind::WokeUp),
-            KindSet::of(&[EventKind::WokeUp])
-        );
-    }
-}
-
-#[cfg(test)]
-mod size {
-    /// An event stays as small as its docs say.
-    #[test]
-    fn an_event_is_small() {
-        let size = std::mem::size_of::<super::Event>();
-        assert!(size <= 112, "Event is {size} bytes");
-    }
-}
+mod tests;
