@@ -33,7 +33,7 @@ fn ball(x: i8, y: u8, z: i8, r: u8) -> Op {
 /// long run met one of those, with a residual velocity of 4e-6 m/s, in a sequence
 /// of 14 operations ending `Step(2)`, `Unseen(1)`). Found by `speedups_contact_graph`;
 /// fails under `touching` alike.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest() {
     use harness::{Call, Ty, Who};
@@ -60,7 +60,7 @@ fn fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest() {
 /// leaves in its active set, asleep, with a sleep timer that no step changes; the
 /// other sampled bodies had just been woken (a teleport) and move fast (their timers
 /// stay at 0). Found by the `touching` configuration's long run, shrunk.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_an_unseen_step_is_noticed_with_a_fixed_body_in_the_active_set() {
     use harness::Ty;
@@ -98,7 +98,7 @@ fn fixed_an_unseen_step_is_noticed_with_a_fixed_body_in_the_active_set() {
 /// both at zero velocity) hides the step. Under `touching` (no speed-ups) the same
 /// sequence passes. Found by `speedups_papers_fastest`'s long run, shrunk; also seen
 /// with two layers taking turns under `speedups_contact_graph`.
-/// Still failing after 3d1c5a1 (velocities beside poses in the witness): one
+/// Still failing with velocities beside poses in the witness: one
 /// sampled ball falls, the other two rest exactly, and the witness asks every
 /// sampled body to have moved; the documented limit (`docs/ARCHITECTURE.md`, "What
 /// the witness cannot see") names only a sample that rests entirely.
@@ -152,7 +152,7 @@ fn bug_an_unseen_step_is_noticed_under_the_speedups() {
 /// `world.step()` between the layer's steps is a supported loop, the guard, or the
 /// docs of `set_body_disabled`, should say so. Found by the `proximity` configuration's
 /// long run, shrunk.
-/// Documented since e9d1bfa: the passive bodies' joint guard runs in the layer's pre-step
+/// Documented limit: the passive bodies' joint guard runs in the layer's pre-step
 /// (`set_body_disabled`'s docs); kept to show it (fails with `--ignored`).
 #[test]
 #[ignore = "documented: a new joint to a passive body panics Rapier in a step the layer did not see"]
@@ -195,7 +195,7 @@ fn limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic() {
 /// ("edge e1v0 touching = true, Rapier says false"). With the step seen, or without the
 /// teleport or the sleep, or under touching tracking, it passes. Found by the
 /// `proximity` configuration's long run, shrunk.
-/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+/// Fixed (a missed step is read in full under proximity tracking too).
 #[test]
 fn fixed_a_body_asleep_on_both_sides_of_an_unseen_step_is_read_again() {
     let ops = [
@@ -236,7 +236,7 @@ fn fixed_a_body_asleep_on_both_sides_of_an_unseen_step_is_read_again() {
 /// pre-step makes such a body active again
 /// (`fixed_a_passive_body_joined_to_a_multibody_is_made_active_again`), and this step
 /// has none. Found by the `touching` configuration's long run, shrunk.
-/// Documented since e9d1bfa: the passive bodies' guard runs in the layer's pre-step
+/// Documented limit: the passive bodies' guard runs in the layer's pre-step
 /// (`set_body_disabled`'s docs name the joints; the multibodies are alike); kept to
 /// show it (fails with `--ignored`).
 #[test]
@@ -274,7 +274,7 @@ fn limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic() {
 /// second layer's, it fails alike ("edge e0v0 is proximate without a Rapier pair").
 /// Found by `speedups_default` (with the speed-ups switched off) in the long run;
 /// fails under `touching`.
-/// Passes since 3d1c5a1 (sampled bodies the user turned kinematic or fixed tell nothing).
+/// Fixed (sampled bodies the user turned kinematic or fixed tell nothing).
 #[test]
 fn fixed_a_step_is_noticed_when_a_sampled_body_turns_kinematic() {
     use harness::{Second, Ty};
@@ -311,7 +311,7 @@ fn fixed_a_step_is_noticed_when_a_sampled_body_turns_kinematic() {
 /// step misses the first layer's step, and a fixed body turned kinematic rests in
 /// the world: "Rapier pair of nodes 2–11 has no edge" in the second layer. Found by
 /// `speedups_reliable_sleep`; fails under `touching` alike.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_two_layers_taking_turns_with_a_kinematic_body_at_rest() {
     use harness::{Second, Ty};
@@ -356,7 +356,7 @@ fn fixed_two_layers_taking_turns_with_a_kinematic_body_at_rest() {
 /// full sync for, but nothing tells it. Found by the `proximity` configuration's long
 /// run, shrunk. (Alike for any write of one layer the other relies on: the
 /// `COLLISION_EVENTS` flags one layer takes off when its touching tracking ends.)
-/// Passes since 3d1c5a1 (a missed step is read in full under proximity tracking too).
+/// Fixed (a missed step is read in full under proximity tracking too).
 #[test]
 fn fixed_a_second_layer_sees_the_sensors_the_first_widened() {
     use harness::Second;
@@ -386,7 +386,7 @@ fn fixed_a_second_layer_sees_the_sensors_the_first_widened() {
 /// collider's first step, as without unseen steps, changes nothing. Found by the
 /// `touching` configuration, shrunk by hand: every operation is needed (the
 /// difference comes from the order Rapier handles pairs in).
-/// Documented since e9d1bfa: loops with steps the layer did not see give up bit-identity
+/// Documented limit: loops with steps the layer did not see give up bit-identity
 /// (`docs/ARCHITECTURE.md`, "Steps the layer did not see"); kept to show it (fails with
 /// `--ignored`).
 #[test]

@@ -147,6 +147,7 @@ impl Coherence {
     /// nodes created this step and, on request, every node. O(refreshed nodes), O(nodes)
     /// on request.
     #[allow(clippy::too_many_arguments)]
+    // Long: collects the nodes to refresh from each source the doc lists, then refreshes them once.
     fn refresh_nodes(
         &mut self,
         graph: &mut ContactGraph,

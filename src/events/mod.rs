@@ -255,8 +255,8 @@ impl From<EventKind> for KindSet {
 /// The two things an event names are `1` and `2`, as Rapier's `collider1` /
 /// `collider2` (the paper's *A* and *B*): [`Self::node1`] / [`Self::node2`], their
 /// bodies [`Self::body1`] / [`Self::body2`] and colliders [`Self::collider1`] /
-/// [`Self::collider2`]. (Named `a` / `b`, `body_a` / `body_b`, `collider_a` /
-/// `collider_b` before 0.2; serialised events with those names still load.)
+/// [`Self::collider2`]. Serialised events with the old names (`a` / `b`, `body_a` /
+/// `body_b`, `collider_a` / `collider_b`) still load.
 ///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]

@@ -230,6 +230,7 @@ impl Logic {
     /// passive bodies or widened sensors; with rules, O(rule members + their
     /// colliders · log) per step to see a member's collider list change; plus
     /// O(new nodes + widened sensors), plus O(colliders) when their count changed.
+    // Long: the queued changes are applied in one borrow of the world, phase by phase (commented).
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
@@ -431,6 +432,7 @@ impl Logic {
     ///   Rapier never changes) and remembers it; it enables it again once both its
     ///   bodies are enabled and not passive. Nothing is lost; a joint the user disabled
     ///   stays disabled.
+    // Long: disabling and enabling bodies with their joints is one sequence, ordered against Rapier's panics.
     fn apply_passive(&mut self, graph: &ContactGraph, world: &mut WorldMut) {
         let dynamic_member = |world: &WorldMut, h: RigidBodyHandle| {
             world.multibody_joints.rigid_body_link(h).is_some()

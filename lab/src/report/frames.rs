@@ -206,6 +206,7 @@ impl Renderer {
     /// # let _ = ground;
     /// # Ok::<(), rapier_contact_graph::Error>(())
     /// ```
+    // Long: Rapier's pass, the caller's pass, painting and text share the frame's buffers.
     pub fn render_with(
         &self,
         world: &PhysicsWorld,

@@ -245,6 +245,7 @@ fn write_dot(
     let _ = try_write_dot(out, graph, groups, options);
 }
 
+// Long: writes the document's parts (nodes, clusters, edges) in order into one writer.
 fn try_write_dot(
     out: &mut String,
     graph: &ContactGraph,
