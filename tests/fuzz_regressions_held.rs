@@ -80,7 +80,7 @@ fn held_ball(park: Park, monitor: bool) -> (PhysicsWorld, ContactLayer, RigidBod
 /// changing a fixed body in place. Found by every speed-ups configuration (shrunk
 /// from `Ball`, `Ball`, `User(Any(198), Enabled(false))`, `Sleep(87)`); happens
 /// without speed-ups too.
-/// Passes since 3b2c4af (the monitor's held bodies are the speed-ups' fixated ones).
+/// Fixed (the monitor's held bodies are the speed-ups' fixated ones).
 #[test]
 fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
     let mut world = harness::arena();
@@ -118,7 +118,7 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
 /// sleeping body. Found by every speed-ups configuration once steps the layer does not
 /// see were on (a new random stream), shrunk to `Ball`, `Step(1)`, `Passive(29,
 /// true)`, `Sleep(157)`.
-/// Passes since 3b2c4af (a disabled body is out of the monitor's simulation unless
+/// Fixed (a disabled body is out of the monitor's simulation unless
 /// parking).
 #[test]
 fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
@@ -167,7 +167,7 @@ fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
 /// "Releasing held bodies".) Found by `speedups_papers_fastest` and
 /// `speedups_reliable_sleep`, shrunk to `Ball`, `Step(34)`, `User(Any(13),
 /// Enabled(false))`.
-/// Passes since 3b2c4af (a held body the user disables is released and seen passive by the
+/// Fixed (a held body the user disables is released and seen passive by the
 /// round-robin verification).
 #[test]
 fn fixed_a_held_body_the_user_disables_is_passive_in_the_graph() {
@@ -191,7 +191,7 @@ fn fixed_a_held_body_the_user_disables_is_passive_in_the_graph() {
 /// disabled by the layer for one step). Found by `speedups_reliable_sleep` and
 /// `speedups_papers_fastest`, shrunk to `Ball`, `Step(36)`, `User(Any(13),
 /// Enabled(false))`, `RemoveBody(20)` (the floor).
-/// Passes since 3b2c4af (the monitor's held bodies are the speed-ups' fixated ones, a
+/// Fixed (the monitor's held bodies are the speed-ups' fixated ones, a
 /// disabled body out of its simulation).
 #[test]
 fn fixed_a_held_body_the_user_disabled_is_not_repaired() {
@@ -224,7 +224,7 @@ fn fixed_a_held_body_the_user_disabled_is_not_repaired() {
 /// user's call is lost (`tests/held_piles_answer.rs` has the user disable held boxes,
 /// none of them in that step). Seen by the harness's check that Rapier keeps what the
 /// user last asked.
-/// Documented since e9d1bfa: the user's `set_enabled(false)` in a held body's parking step
+/// Documented limit: the user's `set_enabled(false)` in a held body's parking step
 /// is lost (`docs/ARCHITECTURE.md`, what remains of holding); kept to show it (fails with
 /// `--ignored`).
 #[test]
@@ -240,16 +240,14 @@ fn limit_a_held_body_the_user_disables_while_parking_stays_disabled() {
     assert!(!world.bodies[ball].is_enabled());
 }
 
-/// Held bodies keep their contacts (f6c2d55, "A held body keeps its contacts as a
-/// sleeping one does": frozen edges): a box held on the floor, proximity tracking
+/// Held bodies keep their contacts (as a sleeping one does: frozen edges): a box held on the floor, proximity tracking
 /// asked for, and the user turns the held box kinematic with Rapier's own
 /// `set_body_type`: its frozen edge with the floor stays, a physical edge between a
 /// fixed and a kinematic body ("edge e0v0 of kind Physical joins Fixed and
 /// Kinematic", which Table 2 rules out). Turned dynamic or fixed instead, or under
 /// touching tracking, it passes. Found by `speedups_papers_fastest` and
-/// `speedups_reliable_sleep` on the working tree over f6c2d55 (3b2bb32, before held
-/// bodies kept their contacts, passes).
-/// Passes since 3b2c4af (frozen edges re-checked against Table 2 when a body is given
+/// `speedups_reliable_sleep` once held bodies kept their contacts.
+/// Fixed (frozen edges re-checked against Table 2 when a body is given
 /// back).
 #[test]
 fn fixed_a_held_body_turned_kinematic_keeps_no_frozen_edge() {
@@ -274,14 +272,14 @@ fn fixed_a_held_body_turned_kinematic_keeps_no_frozen_edge() {
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }
 
-/// Held bodies keep their contacts (frozen edges, f6c2d55): balls held on the floor,
+/// Held bodies keep their contacts (frozen edges): balls held on the floor,
 /// and the floor made passive (`set_body_disabled(floor, true)`): the frozen edges
 /// stay ("passive node n0v0 has physical or geometric edges"). The same when the
 /// user disables the floor with Rapier's own `set_enabled(false)` (and asks for a
 /// full sync): shrunk to `Ball`, `Step(33)`, `User(Any(180), Enabled(false))`. Found
-/// by `speedups_reliable_sleep` and `speedups_papers_fastest` on the working tree
-/// over f6c2d55 (3b2bb32 passes).
-/// Passes since 3b2c4af (frozen edges never on a passive end).
+/// by `speedups_reliable_sleep` and `speedups_papers_fastest` once held bodies kept
+/// their contacts.
+/// Fixed (frozen edges never on a passive end).
 #[test]
 fn fixed_a_body_made_passive_keeps_no_frozen_edge() {
     use harness::Preset;
@@ -300,7 +298,7 @@ fn fixed_a_body_made_passive_keeps_no_frozen_edge() {
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }
 
-/// Held bodies keep their contacts (frozen edges, f6c2d55): a ball held on the floor
+/// Held bodies keep their contacts (frozen edges): a ball held on the floor
 /// the user made kinematic (a held body computes no contact with a kinematic one
 /// either, so the edge is frozen), and the user turns the floor dynamic again: Rapier
 /// computes the contact and sends `Started`, and the layer counts the pair on top of

@@ -24,7 +24,7 @@ const BALL: Op = Op::Ball {
 /// the rule's hook was never asked; `validate()` (now checking rule screening against
 /// Rapier) failed with "a rule screens the pair … but Rapier collides it". Passes since
 /// the layer sets Rapier's `GROUPS` change flag on the colliders whose hook flags it
-/// changes (616b38f).
+/// changes.
 #[test]
 fn fixed_a_rule_on_a_resting_pair_is_applied_by_rapier() {
     let ops = [
@@ -50,7 +50,7 @@ fn fixed_a_rule_on_a_resting_pair_is_applied_by_rapier() {
 /// A wall (static geometry) moved onto a ball with `set_parent`, then a rule between
 /// that ball and another: Rapier's hooks, run before the analysis saw the move, named
 /// the wall by its stale static node and let the pair collide. Passes since the hooks
-/// name a collider by Rapier's parent (616b38f).
+/// name a collider by Rapier's parent.
 #[test]
 fn fixed_a_rule_after_set_parent_is_applied_by_rapier() {
     let ops = [

@@ -76,7 +76,7 @@ fn widened_against_plain(
 /// `set_trigger_widening` say "sensors never push bodies, so no trajectory changes":
 /// no pose differs here, but Rapier's state does (a sleeping body is skipped by the
 /// solver, an awake one is not).
-/// Documented since e9d1bfa: widening is not observe-only (`set_trigger_widening`'s docs);
+/// Documented limit: widening is not observe-only (`set_trigger_widening`'s docs);
 /// kept to show it (fails with `--ignored`).
 #[test]
 #[ignore = "documented: a widened sensor keeps a kinematic body awake that plain Rapier puts to sleep"]
@@ -114,7 +114,7 @@ fn limit_widened_sensor_keeps_a_kinematic_body_awake() {
 /// through a layer without widening (the touching configuration, itself checked bit
 /// for bit against plain Rapier). Found by the proximity configuration's twin before
 /// the twin was given the layer's widening; shrunk.
-/// Documented since e9d1bfa: widening is not observe-only (`set_trigger_widening`'s docs);
+/// Documented limit: widening is not observe-only (`set_trigger_widening`'s docs);
 /// kept to show it (fails with `--ignored`).
 #[test]
 #[ignore = "documented: widening a sensor Rapier already stepped changes trajectories"]
@@ -197,7 +197,7 @@ fn limit_widening_a_sensor_rapier_stepped_changes_trajectories() {
 /// it). `request_full_sync()` after the removal finds it. Found by the
 /// `speedups_contact_graph` configuration, shrunk to `Ball`, `Ball`, `Step(1)`,
 /// `User(Any(1), Remove { keep_colliders: true })`; fails under `touching` alike.
-/// Passes since 3b2c4af (touching tracking rescans new static colliders).
+/// Fixed (touching tracking rescans new static colliders).
 #[test]
 fn fixed_a_collider_kept_by_a_removed_body_keeps_its_touching_pairs() {
     let mut world = harness::arena();
@@ -227,7 +227,7 @@ fn fixed_a_collider_kept_by_a_removed_body_keeps_its_touching_pairs() {
 /// trajectories part from those of the plain world given the same operations (the
 /// floor body, made dynamic, after step 4). Without the switch it passes. Found by
 /// the `touching` configuration's long run (10,000 sequences), shrunk.
-/// Passes since 3b2c4af (collision-event flags kept when proximity tracking takes over).
+/// Fixed (collision-event flags kept when proximity tracking takes over).
 #[test]
 fn fixed_switching_to_proximity_tracking_changes_no_trajectory() {
     use harness::Ty;

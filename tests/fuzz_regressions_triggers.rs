@@ -19,7 +19,7 @@ use rapier_contact_graph::{ContactLayer, EdgeKind, NodeKind, Rule};
 
 use common::build::*;
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 /// A layer whose triggers see bodies of every type (`set_trigger_widening(true)`):
 /// what these regressions were found with (widening was the default then).
 fn widened_layer() -> ContactLayer {
@@ -286,7 +286,7 @@ fn fixed_a_collider_of_an_awake_body_turned_sensor_gets_its_trigger_at_once() {
     assert_eq!(h.layer.graph().node(t).unwrap().carrier(), Some(b));
 }
 
-/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+/// Failed when this fuzzing found it; passes since the audit's fixes.
 #[test]
 fn fixed_a_sensor_of_an_awake_body_turned_solid_loses_its_trigger() {
     let (mut world, _) = world_with_ground();

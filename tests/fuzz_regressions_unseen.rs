@@ -33,7 +33,7 @@ fn ball(x: i8, y: u8, z: i8, r: u8) -> Op {
 /// long run met one of those, with a residual velocity of 4e-6 m/s, in a sequence
 /// of 14 operations ending `Step(2)`, `Unseen(1)`). Found by `speedups_contact_graph`;
 /// fails under `touching` alike.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest() {
     use harness::{Call, Ty, Who};
@@ -60,7 +60,7 @@ fn fixed_an_unseen_step_is_noticed_with_a_kinematic_body_at_rest() {
 /// leaves in its active set, asleep, with a sleep timer that no step changes; the
 /// other sampled bodies had just been woken (a teleport) and move fast (their timers
 /// stay at 0). Found by the `touching` configuration's long run, shrunk.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_an_unseen_step_is_noticed_with_a_fixed_body_in_the_active_set() {
     use harness::Ty;
@@ -149,7 +149,7 @@ fn fixed_an_unseen_step_is_noticed_under_the_speedups() {
 /// `world.step()` between the layer's steps is a supported loop, the guard, or the
 /// docs of `set_body_disabled`, should say so. Found by the `proximity` configuration's
 /// long run, shrunk.
-/// Documented since e9d1bfa: the passive bodies' joint guard runs in the layer's pre-step
+/// Documented limit: the passive bodies' joint guard runs in the layer's pre-step
 /// (`set_body_disabled`'s docs); kept to show it (fails with `--ignored`).
 #[test]
 #[ignore = "documented: a new joint to a passive body panics Rapier in a step the layer did not see"]
@@ -233,7 +233,7 @@ fn fixed_a_body_asleep_on_both_sides_of_an_unseen_step_is_read_again() {
 /// pre-step makes such a body active again
 /// (`fixed_a_passive_body_joined_to_a_multibody_is_made_active_again`), and this step
 /// has none. Found by the `touching` configuration's long run, shrunk.
-/// Documented since e9d1bfa: the passive bodies' guard runs in the layer's pre-step
+/// Documented limit: the passive bodies' guard runs in the layer's pre-step
 /// (`set_body_disabled`'s docs name the joints; the multibodies are alike); kept to
 /// show it (fails with `--ignored`).
 #[test]
@@ -308,7 +308,7 @@ fn fixed_a_step_is_noticed_when_a_sampled_body_turns_kinematic() {
 /// step misses the first layer's step, and a fixed body turned kinematic rests in
 /// the world: "Rapier pair of nodes 2–11 has no edge" in the second layer. Found by
 /// `speedups_reliable_sleep`; fails under `touching` alike.
-/// Passes since 3b2c4af (the unseen-step witness samples dynamic bodies only).
+/// Fixed (the unseen-step witness samples dynamic bodies only).
 #[test]
 fn fixed_two_layers_taking_turns_with_a_kinematic_body_at_rest() {
     use harness::{Second, Ty};
@@ -383,7 +383,7 @@ fn fixed_a_second_layer_sees_the_sensors_the_first_widened() {
 /// collider's first step, as without unseen steps, changes nothing. Found by the
 /// `touching` configuration, shrunk by hand: every operation is needed (the
 /// difference comes from the order Rapier handles pairs in).
-/// Documented since e9d1bfa: loops with steps the layer did not see give up bit-identity
+/// Documented limit: loops with steps the layer did not see give up bit-identity
 /// (`docs/ARCHITECTURE.md`, "Steps the layer did not see"); kept to show it (fails with
 /// `--ignored`).
 #[test]

@@ -33,39 +33,8 @@
 //! and the pile at the rim is as deep. Seen from above with uphill at the top, the text
 //! reads along `+z`.
 //!
-//! # Why these numbers
-//! - Short slope: a rolling sphere accelerates at `5/7 · g · sin 20° ≈ 2.4 m/s²`; over
-//!   at most ~12 m it reaches 7–7.6 m/s (measured), not the 15+ m/s of a long slope
-//!   that makes spheres jump a low rim. Spheres reach the rim within ~2–4 s, leaving
-//!   several seconds to settle; at 10 s the mean speed is ~0.005–0.02 m/s.
-//! - Rim height [`RIM_HEIGHT`] = 3 m (3 diameters) on all four sides. The pile is
-//!   3–4 spheres deep along the slope with a partial second layer; spheres arriving
-//!   at up to 7.5 m/s climb onto it. The highest centre measured in 10 s was 1.73 m
-//!   (N = 12,000; 1.0–1.5 m at N = 120 and 1,200), so the highest sphere's top stays
-//!   about 0.8 m below the rim's top and none leaves the plane ([`is_on_plane`]).
-//! - A sphere resting on a groove's bottom (centre at `y = 0.3`) meets the groove's
-//!   lower edge 53° from the plane normal, well beyond the 20° tilt of gravity, so a
-//!   slow sphere stays caught; fast ones hop across grooves. About 10 % of the spheres
-//!   end in a groove, about 90 % in the run-out.
-//! - Few colliders, all on the one fixed body: a flat slab below the band, one above
-//!   it, a groove-bottom slab under the band, the flat land between the strokes merged
-//!   greedily into rectangles on top of it ([`surface`]: 17 per "DIKU", 1,708
-//!   colliders in all at 12,000 spheres), and the four rim walls. Every piece reaches
-//!   down to `y = -1`, so none is thinner than 0.8 m. The plane's long axis is the
-//!   rotation axis, so even 1.4 km from the centre contact geometry stays precise in
-//!   `f32`.
-//! - Spheres start at least 0.2 m apart (surface to surface) and clear of the walls and
-//!   the surface, with a ±0.05 m jitter per axis from a seeded splitmix/xorshift
-//!   generator (no `rand`); a given `(N, seed)` always builds the same world. Rapier's
-//!   defaults otherwise (friction 0.5, restitution 0, auto-sleep on, no hooks or event
-//!   flags).
-//!
-//! # What to expect
-//! Rapier has no rolling resistance, so a sphere that enters a groove across the slope
-//! with some sideways speed rolls along it until it meets its end or a stroke leading
-//! down; some of these reach the pile late (after 8–10 s). Anything touching the pile
-//! keeps its whole Rapier island awake, so Rapier's auto-sleep puts few spheres to
-//! sleep by 10 s (about 5–10 % measured) although almost all are nearly at rest.
+//! Why these sizes, and what a run shows: `docs/ARCHITECTURE.md` ("The DIKU scene's
+//! numbers").
 
 use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};

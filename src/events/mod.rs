@@ -7,31 +7,18 @@
 //! - **Which step.** Every event carries the index of the step it describes
 //!   ([`crate::LayerAnalysis::current_step`] right after that step).
 //! - **Pairs.** `node1` is the node with the smaller slot index (the paper's *A*),
-//!   `node2` the other; for sensor events `node1` is the sensor and `node2` the body.
-//!   The handles follow the nodes: `body1` / `collider1` are `node1`'s, as Rapier's
-//!   `collider1` / `collider2` name a pair's two colliders. Every contact, proximity
-//!   and sensor event names the collider pair Rapier reported (`collider1` of
-//!   `body1`, `collider2` of `body2`; for a sensor event the sensor and the collider
-//!   that entered or left it); two bodies touching through several collider pairs
-//!   are one pair of nodes, and their events name one collider pair, chosen as
-//!   [`Event::collider1`] says.
-//! - **Normals.** One convention everywhere: a normal points from the first thing
-//!   named to the second, as Rapier's contact manifold normal points from its
-//!   `collider1` to its `collider2`. An event's [`Event::normal`] points from `node1`
-//!   (`body1`, `collider1`) towards `node2`, which it pushes away; the graph's
-//!   [`ContactCache::normal`](crate::ContactCache::normal) (and `push`) from the
-//!   edge's *A* to its *B*, which are the events' `node1` and `node2`;
+//!   `node2` the other; for sensor events `node1` is the sensor. `body1` /
+//!   `collider1` are `node1`'s; a pair touching through several collider pairs names
+//!   one, chosen as [`Event::collider1`] says.
+//! - **Normals** point from the first thing named to the second, as Rapier's manifold
+//!   normal: an event's [`Event::normal`] from `node1` towards `node2`, an edge's
+//!   [`ContactCache::normal`](crate::ContactCache::normal) from *A* to *B*,
 //!   [`ContactLayer::contact_details(w, body, other)`](crate::ContactLayer::contact_details)
-//!   from `body` towards `other`. So for a ball resting on a box inserted before it
-//!   (`body1` the box), the event's normal is `(0, 1, 0)`, the edge's too,
-//!   `contact_details(w, box_body, ball)` answers `(0, 1, 0)` and
-//!   `contact_details(w, ball, box_body)` answers `(0, -1, 0)`: the same contact,
-//!   seen from either side (`tests/normal_convention.rs`).
+//!   from `body` towards `other` (`tests/normal_convention.rs`).
 //! - **Lifecycle.** For a pair, every `ProximityStarted` is followed by zero or more
 //!   `ProximityPersisted` and exactly one `ProximityStopped`; likewise
-//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, always nested inside the
-//!   proximity span;
-//!   `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
+//!   `ContactStarted` / `ContactPersisted` / `ContactStopped`, nested inside the
+//!   proximity span; `SensorStarted` and `SensorStopped` alternate. Removing a body (or making it
 //!   passive) ends every span it is part of, in the step the layer sees it go.
 //! - **Persisted events** are sent only for pairs with an awake body; the pairs of
 //!   sleeping bodies are frozen (queries on the graph stay exact for them).
@@ -242,8 +229,8 @@ impl From<EventKind> for KindSet {
 /// The two things an event names are `1` and `2`, as Rapier's `collider1` /
 /// `collider2` (the paper's *A* and *B*): [`Self::node1`] / [`Self::node2`], their
 /// bodies [`Self::body1`] / [`Self::body2`] and colliders [`Self::collider1`] /
-/// [`Self::collider2`]. (Named `a` / `b`, `body_a` / `body_b`, `collider_a` /
-/// `collider_b` before 0.2; serialised events with those names still load.)
+/// [`Self::collider2`]. Serialised events with the old names (`a` / `b`, `body_a` /
+/// `body_b`, `collider_a` / `collider_b`) still load.
 ///
 /// Equality and hashing compare `value` by its bits (a monitor measure is never NaN).
 #[derive(Copy, Clone, Debug)]
@@ -548,75 +535,4 @@ impl ViolationKind {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Rapier's collision events: contact and sensor starts and stops, nothing that
-    /// needs every pair read.
-    #[test]
-    fn collision_events_are_rapiers_started_and_stopped() {
-        let want = KindSet::of(&[
-            EventKind::ContactStarted,
-            EventKind::ContactStopped,
-            EventKind::SensorStarted,
-            EventKind::SensorStopped,
-        ]);
-        assert_eq!(KindSet::COLLISION_EVENTS, want);
-        assert!(!KindSet::COLLISION_EVENTS.intersects(KindSet::NEEDS_EVERY_PAIR));
-        assert_eq!(
-            KindSet::COLLISION_EVENTS,
-            (KindSet::CONTACT | KindSet::SENSOR).without(KindSet::NEEDS_EVERY_PAIR)
-        );
-    }
-
-    /// The kinds keep their discriminants: bincode encodes a kind by index, so
-    /// saved snapshots and events read back the same kinds.
-    #[test]
-    fn kinds_keep_their_discriminants() {
-        let kinds = [
-            EventKind::ProximityStarted,
-            EventKind::ProximityPersisted,
-            EventKind::ProximityStopped,
-            EventKind::ContactStarted,
-            EventKind::ContactPersisted,
-            EventKind::ContactStopped,
-            EventKind::SensorStarted,
-            EventKind::SensorStopped,
-        ];
-        for (i, k) in kinds.into_iter().enumerate() {
-            assert_eq!(k as u8, i as u8);
-        }
-    }
-
-    #[test]
-    fn kind_sets_combine_with_bitor() {
-        assert_eq!(
-            KindSet::CONTACT | KindSet::SENSOR,
-            KindSet::CONTACT.union(KindSet::SENSOR)
-        );
-        let mut k = KindSet::NONE;
-        k |= KindSet::SLEEP;
-        assert_eq!(k, KindSet::SLEEP);
-        assert_eq!(
-            EventKind::ContactStarted | EventKind::ContactStopped,
-            KindSet::of(&[EventKind::ContactStarted, EventKind::ContactStopped])
-        );
-        let with = KindSet::CONTACT | EventKind::FellAsleep;
-        assert!(with.contains(EventKind::FellAsleep) && with.contains(EventKind::ContactStarted));
-        assert!(!with.contains(EventKind::WokeUp));
-        assert_eq!(
-            KindSet::from(EventKind::WokeUp),
-            KindSet::of(&[EventKind::WokeUp])
-        );
-    }
-}
-
-#[cfg(test)]
-mod size {
-    /// An event stays as small as its docs say.
-    #[test]
-    fn an_event_is_small() {
-        let size = std::mem::size_of::<super::Event>();
-        assert!(size <= 112, "Event is {size} bytes");
-    }
-}
+mod tests;

@@ -41,6 +41,7 @@ fn round(x: f32) -> String {
 /// let layer = ContactLayer::new();
 /// assert!(describe(&layer, &|_| None).starts_with("step 0"));
 /// ```
+// Long: writes the dump's sections in order.
 pub fn describe(layer: &ContactLayer, name: &dyn Fn(NodeId) -> Option<String>) -> String {
     let graph = layer.graph();
     let step = layer.analysis().current_step();

@@ -265,7 +265,7 @@ impl Node {
         }
     }
 
-    /// Held by the speed-ups' fixation (see `SpeedUps::fixate`): a fixed body in
+    /// Held by the speed-ups' fixation (see `SpeedUps::hold`): a fixed body in
     /// Rapier that stands for a sleeping one; its contacts with what stands still are
     /// kept frozen ([`crate::ContactGraph::is_frozen`]). O(1).
     pub fn is_held(&self) -> bool {

@@ -32,6 +32,7 @@ impl ContactGraph {
     /// adjacency lists and the pair map agree with the edge arena, edge kinds agree
     /// with node kinds (Table 2), per-kind counts and the body lookup are right.
     /// O(nodes + edges).
+    // Long: one pass per arena checks each invariant where its data is at hand.
     pub fn validate(&self) -> Result<()> {
         let mut kind_counts = [0usize; 9];
         let mut adjacency_total = 0usize;

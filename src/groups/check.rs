@@ -112,6 +112,7 @@ impl Groups {
     /// counted contacts, which sum to the group's; its insulators exactly the far ends
     /// of those edges, with their edge counts; its awake count and sleep the members';
     /// and it is connected, unless its split is deferred. O(members + edges).
+    // Long: one check per invariant the doc above lists, in one pass over the group's members and edges.
     pub(crate) fn verify(
         &self,
         graph: &ContactGraph,

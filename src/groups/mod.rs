@@ -2,67 +2,24 @@
 //! over touching physical edges and structural edges, where fixed and scripted bodies
 //! insulate ("they behave as if they had infinite mass").
 //!
-//! # Design
-//! The paper builds the groups by a traversal every step: an edge is white unless its
-//! colour stamp is this traversal's and turns black when taken into a group; an
-//! insulator's edges join the group of the body on the other side, but the insulator
-//! itself is not expanded, so one floor carries many independent groups. Rebuilding
-//! that way costs O(members + edges) of every group whose structure changed, and in a
-//! moving pile some contact starts or ends in the one big group every step: the whole
-//! pile was traversed every step (the largest item of the analysis on a 5,000-sphere
-//! pile). The groups are therefore kept **incrementally**, as Rapier's
-//! islands (`island_manager/local_split.rs`), Box2D v3's islands and Avian's
-//! `islands/mod.rs` keep theirs:
+//! Kept **incrementally**, as Rapier's islands are: merged (smaller into larger) when a
+//! contact begins (`incremental.rs`); split lazily when contacts end, each ended edge
+//! checked by a bounded two-sided search ([`Groups::DEFAULT_SPLIT_BUDGET`] node
+//! expansions) whose smaller side leaves (`split.rs`); a group whose search runs out
+//! is deferred, and at most one deferred group a step (the sleepiest) is rebuilt by
+//! the paper's traversal (`traverse.rs`; [`crate::LayerAnalysisMut::settle_groups`]
+//! rebuilds all). Everything else that changes which bodies may be grouped dissolves
+//! the groups concerned and the traversal rebuilds them.
 //!
-//! - **Merge when a contact begins** (`incremental.rs`): the smaller group's members
-//!   and edges move into the larger one. O(smaller group).
-//! - **Split lazily when contacts end** (`split.rs`): a connected group stays
-//!   connected exactly when the two ends of every ended edge still reach each other.
-//!   Each ended edge is checked by a bounded search from both ends at once,
-//!   alternating one node expansion each: if one side meets the other, nothing
-//!   changes; if one side runs out of nodes first, that side is a whole part and
-//!   moves to a new group (the search stops at the smaller side, so the cost is the
-//!   smaller part). Once a part has left, the rest may have hung together through
-//!   it: the rest's ends of the ended edges to that part are joined pairwise by the
-//!   same search (they are the part's neighbours, so the searches are short). If a
-//!   search exceeds the budget ([`Groups::DEFAULT_SPLIT_BUDGET`] node expansions,
-//!   Rapier's own budget for its islands), the group
-//!   is **deferred**.
-//! - **At most one full split per step**: of the deferred groups, the one with the
-//!   fewest awake members (the sleepiest, as Box2D and Avian choose), then the lowest
-//!   id, is rebuilt by the paper's traversal. [`crate::LayerAnalysisMut::settle_groups`]
-//!   rebuilds all of them at once.
-//! - Everything else that changes which bodies may be grouped (a body added, removed,
-//!   made passive, changing kind; under subgrouping a body becoming sleepy or not)
-//!   dissolves the groups concerned and the traversal rebuilds them from their
-//!   members, as before.
+//! **What a query sees.** Exact at the end of every step, except that a deferred
+//! group ([`Groups::deferred`], [`GroupStats::deferred`]) may be the union of whole
+//! groups until its full split; a union sleeps later, never earlier. Proximity-only
+//! edges join no group, a lone body is its own group, insulators belong to none
+//! ([`Group::insulators`] lists the ones it rests on). Design, the paper's traversal
+//! and the rejected alternatives: `docs/ARCHITECTURE.md` ("Contact groups").
 //!
-//! **What a query sees.** Merges, local splits, sleep and contact counts are exact at
-//! the end of every step. A deferred group may hold two or more components that no
-//! longer touch: it is then the union of whole groups of a from-scratch traversal,
-//! never a part of one (no edge joins two groups), until its full split, which comes
-//! within as many steps as groups are deferred. [`Groups::deferred`] lists them and
-//! [`GroupStats::deferred`] counts them; `validate()` checks every other group against
-//! the traversal (connected, its edges and insulators exactly the joining ones). For
-//! the speed-ups a deferred group only errs on the safe side: a group sleeps when all
-//! its members are sleepy, so a union sleeps later, never earlier.
-//!
-//! Rejected: a union-find forest (merges in near O(1), but no splits: it would need a
-//! rebuild at every ended contact, which is the cost removed here) and the rebuild of
-//! every changed group by traversal (the previous design; still the fallback).
-//!
-//! Choices the paper leaves open:
-//! - Proximity-only edges do not join groups: they carry no contact variables, and
-//!   Rapier's solver does not couple their bodies either.
-//! - A simulated body with no touching edge is a group of its own (Rapier solves it
-//!   alone), so "number of groups" counts every independently solved part.
-//! - Insulators belong to no group; [`Group::insulators`] lists the ones it rests on.
-//!
-//! Member and edge lists are unordered (a member or edge leaving takes the last one's
-//! place), but deterministic: the same steps give the same lists. A group keeps its id
-//! while its members change by merges and splits (a merge keeps the larger group's
-//! id, a split the id on the side the search did not finish); its contact and variable
-//! counts follow the per-edge counts by differences.
+//! Cost: a merge O(smaller group); a split O(smaller part), bounded by the budget; a
+//! full split O(members + edges) of one group a step.
 
 mod check;
 mod incremental;

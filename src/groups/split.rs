@@ -41,6 +41,7 @@ impl Groups {
     /// it, so these searches are short.
     ///
     /// Cost: O(ended edges) searches, each O(smaller side), at most O(budget × degree).
+    // Long: the two-sided searches and their deferral share the step's ended edges and budget.
     pub(super) fn cut_all(&mut self, graph: &mut ContactGraph, step: u64) {
         let group = |graph: &ContactGraph, n: NodeId| graph.node(n).and_then(|n| n.group);
         // Parts split off this step, as a union-find of classes; seeds by class.

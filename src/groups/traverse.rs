@@ -11,6 +11,7 @@ impl Groups {
     /// Builds the groups reachable from the queued roots, dissolving every group a
     /// traversal reaches (a sleeping group reached from an awake one is rebuilt), and
     /// returns how many it built. Cost: O(members + edges of the built groups).
+    // Long: the paper's traversal (Figs. 7–8) as one loop over an explicit stack.
     pub(super) fn build_from_roots(
         &mut self,
         graph: &mut ContactGraph,

@@ -49,6 +49,7 @@ impl Containers {
     /// Brings the containers in line with Rapier's joints. Returns the nodes whose
     /// structure changed (their groups must be rebuilt). Cost: O(multibodies) when
     /// nothing changed.
+    // Long: compares every multibody and joint set with its container in one pass.
     pub(crate) fn sync(
         &mut self,
         graph: &mut ContactGraph,

@@ -230,6 +230,7 @@ impl Logic {
     /// passive bodies or widened sensors; with rules, O(rule members + their
     /// colliders · log) per step to see a member's collider list change; plus
     /// O(new nodes + widened sensors), plus O(colliders) when their count changed.
+    // Long: the queued changes are applied in one borrow of the world, phase by phase (commented).
     pub(crate) fn pre_step(
         &mut self,
         graph: &ContactGraph,
@@ -435,6 +436,7 @@ impl Logic {
     ///
     /// `held` tells the bodies the speed-ups hold (fixed to Rapier, dynamic to the
     /// user): they count as dynamic here, since the speed-ups give them back dynamic.
+    // Long: disabling and enabling bodies with their joints is one sequence, ordered against Rapier's panics.
     fn apply_passive(
         &mut self,
         graph: &ContactGraph,

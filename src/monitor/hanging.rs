@@ -205,6 +205,7 @@ impl Hanging {
     }
 
     #[allow(clippy::too_many_arguments)]
+    // Long: the cases of a held body (commented) share its timer and its support reading.
     fn look(
         &mut self,
         ctx: &Ctx,

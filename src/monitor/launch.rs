@@ -69,6 +69,7 @@ impl Launch {
         self.state.remove(&h);
     }
 
+    // Long: the energy balance of a group needs every member's state of the step at once.
     pub(crate) fn check(
         &mut self,
         ctx: &Ctx,

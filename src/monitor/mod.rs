@@ -1,97 +1,45 @@
 //! The plausibility monitor (paper §8, Figs. 15 and 17): detectors for the failures that the paper's
 //! speed-ups cause, run once per step after the analysis.
 //!
-//! # What is detected, and why this way
-//! - **Hanging sleeper** (paper Fig. 17): a *held* body — asleep in Rapier, or held in
-//!   place by the caller (fixated: locked axes and zeroed velocity) — with no supporting
-//!   touching contact for longer than [`MonitorConfig::hang_time`]. "Supporting" is
-//!   the graph's own query ([`crate::ContactGraph::supports_of`]): a touching physical
-//!   edge whose normal, as it pushes the body, has more than
-//!   [`MonitorConfig::min_support_cos`] of its length along `-gravity` (or a contact
-//!   within the support gap that pushes so), read from Rapier's narrow phase. A
-//!   body resting on a fixed slope is supported; a body
-//!   left in the air when what it rested on rolled away or was removed is not. The
-//!   normals of sleeping pairs are frozen in Rapier (and in the graph's caches), so
-//!   the query is exact for sleeping bodies too.
-//! - **Launch** (paper Fig. 15 ♠: "objects actually fly up in the air … due to
-//!   constraint stabilization correcting large errors"): kinetic energy appearing from
-//!   nowhere. A literal per-body test ("a body's kinetic energy rose by more than
-//!   gravity could give it") fires on every ordinary collision, because a collision
-//!   *moves* energy from one body to another. So the balance is taken per contact
-//!   group of the step: the bodies of a group are exactly the bodies that exchanged
-//!   impulses in the step (Rapier computes contacts at the start of a step and the
-//!   graph reads them after it), fixed bodies do no work, and restitution, friction
-//!   and damping only remove energy. What is left to create energy in a group is
-//!   gravity — bounded by `Σ m·g·Δx` over the step — and the solver's position
-//!   correction, which is the failure we look for. Scripted (kinematic) bodies and user
-//!   pushes do work too, so groups touching a scripted body or holding a body the caller
-//!   excepts are skipped. See [`MonitorConfig::launch_relative`] for the tolerance.
-//!   Rapier's own position correction is gentle with its default parameters (soft
-//!   contacts, a stabilisation pass that removes the correction velocity, 3 m/s cap):
-//!   two 0.5 m boxes created 0.3 m into each other separate at 0.2 m/s, which is not a
-//!   launch. Launches come from stiffer settings and from the speed-ups (releasing a
-//!   body fixated by extra mass throws what it sank into).
-//! - **Deep penetration**: a touching physical edge of an awake body whose deepest
-//!   penetration (`cache().max_penetration`, or read from Rapier under touching
-//!   tracking) exceeds [`MonitorConfig::penetration_fraction`] of the
-//!   smaller body's size; a body's size is the smallest extent of the union of its
-//!   (non-sensor) colliders' AABBs *in the body's own frame*, so it does not change as
-//!   the body rotates and can be cached.
-//! - **Escape**: a body whose pose or velocity is not finite. Rapier 0.36's own NaN
-//!   quarantine resets and disables such bodies during its step, so after a step their
-//!   pose is finite again: the bodies it reports ([`crate::WorldView::quarantined`])
-//!   are counted as escapes too.
-//! - **Unresponsive** (a held body that a contact should have moved): an awake
-//!   dynamic body pressing into a body held by the speed-ups' fixation harder across
-//!   gravity than resting explains. The pusher's contact impulses of the step (normal
-//!   and friction) and its weight give what moved it; what is left (its momentum
-//!   lost, a user's push), less the part along gravity and as far as it goes into the
-//!   held body, over the pusher's weight or load, is compared with
-//!   [`MonitorConfig::unresponsive_push`] in three steps in a row (a push is
-//!   sustained; the solver's imbalance in a pile at rest flickers). A body pushed slowly into a
-//!   held pile (slower than the speed-ups' `release_speed`, so nothing releases it)
-//!   is stopped as by a wall where a sleeping Rapier pile would wake and give way.
-//!   See `unresponsive.rs` for the measure and what it was chosen over.
+//! # What is detected
+//! - **Hanging sleeper** (Fig. 17): a body asleep or held with no supporting touching
+//!   contact for longer than [`MonitorConfig::hang_time`] (support as
+//!   [`crate::ContactGraph::supports_of`] judges it).
+//! - **Launch** (Fig. 15): kinetic energy appearing from nowhere, balanced per contact
+//!   group of the step against the work gravity can do
+//!   ([`MonitorConfig::launch_relative`]); groups with a kinematic or excepted body
+//!   are skipped.
+//! - **Deep penetration**: a touching edge of an awake body deeper than
+//!   [`MonitorConfig::penetration_fraction`] of the smaller body's size.
+//! - **Escape**: a pose or velocity that is not finite, or a body Rapier quarantined
+//!   ([`crate::WorldView::quarantined`]).
+//! - **Unresponsive**: an awake body pressing into a held body harder across gravity
+//!   than resting explains, three steps in a row
+//!   ([`MonitorConfig::unresponsive_push`]).
 //!
-//! # Episodes, not steps
-//! Every kind is counted once per *episode*, which is what a table of violations
-//! wants: a body left hanging for two seconds is one hanging sleeper, not 190. An
-//! episode ends when the condition clears (the body is supported or released, the edge
-//! is shallow again, the pose is finite again, no awake body presses the held body
-//! over the threshold); a launch episode ends at the first step in which the group of
-//! the launched bodies gains no excess energy.
+//! Each kind is counted once per *episode* (until the condition clears). Why each
+//! test is built this way, and what is not covered: `docs/ARCHITECTURE.md`
+//! ("The monitor's detectors"). Call [`Monitor::prime`] before the first step so that
+//! the first step's groups get a launch check.
 //!
 //! # Cost
-//! Everything is driven by what the analysis refreshed: [`Monitor::check`] costs
-//! O(refreshed bodies + members of their groups + edges refreshed in the step) plus
-//! the open episodes (bodies being timed as unsupported, deep edges, escaped bodies),
-//! and O(colliders of a body) once per body for its size. The unresponsive check runs
-//! only while the speed-ups hold a body: O(edges of the refreshed bodies) plus
-//! O(contact pairs of the awake bodies touching a held one). A settled scene costs
-//! O(1).
-//! The per-body state is pruned of removed bodies as the layer reports them, and
-//! swept once it grows past twice the world's body count (amortised O(1)).
-//!
-//! # Not covered
-//! - The first step of a body the monitor has not seen has nothing to compare its
-//!   energy with, so its group gets no launch check in that step: call
-//!   [`Monitor::prime`] before the first step (and [`Monitor::prime_body`] for bodies
-//!   inserted later) to cover it.
-//! - Energy pumped in by motors, user forces applied with `add_force`, or joints to
-//!   kinematic bodies: except those bodies (the `excepted` argument).
-//! - Bodies held by the caller are timed only while the layer refreshes them (awake in
-//!   Rapier, which a fixated body is) or while they are already being timed; a body
-//!   that falls asleep is seen in the step it falls asleep, and one created asleep in
-//!   the step it is created.
+//! [`Monitor::check`] costs O(refreshed bodies + members of their groups + edges
+//! refreshed in the step) plus the open episodes, and O(colliders of a body) once per
+//! body for its size; the unresponsive check runs only while bodies are held. A
+//! settled scene costs O(1).
 
+mod config;
 mod escape;
 mod hanging;
 mod launch;
 mod penetration;
 mod repair;
 mod unresponsive;
+mod violations;
 
+pub use config::MonitorConfig;
 pub use repair::{LayerMonitor, MonitorMode, RepairConfig, RepairCounts};
+pub use violations::{Peaks, Violation, ViolationCounts};
 
 use rapier3d::math::Real;
 use rapier3d::prelude::RigidBodyHandle;
@@ -101,198 +49,7 @@ pub use crate::events::ViolationKind;
 use crate::graph::{ContactGraph, NodeId};
 use crate::groups::Groups;
 use crate::speedups::SpeedUpState;
-use crate::{Error, Result, WorldView};
-
-/// Thresholds of the detectors (defaults as defined in `docs/ARCHITECTURE.md` §6).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct MonitorConfig {
-    /// Seconds a held body may stay without support before it is a hanging sleeper
-    /// (strictly longer than this). Default 0.1 s (paper §8, Figs. 15 and 17).
-    pub hang_time: Real,
-    /// Deepest allowed penetration as a fraction of the smaller body's size. Default 0.1.
-    pub penetration_fraction: Real,
-    /// Launch tolerance, relative part. Default 0.05.
-    ///
-    /// A contact group's excess energy in a step (its kinetic energy gain minus the work
-    /// gravity did on it) is a launch when it exceeds
-    /// `launch_relative · KE_before + launch_per_kg · m`, where `KE_before` and `m` are
-    /// the kinetic energy before the step and the mass of the group's *gainers* (the
-    /// members whose energy rose by more than gravity's work on them), so that one body
-    /// thrown out of a large pile is not diluted by the pile's mass. The relative part
-    /// absorbs the integration error of fast groups (a swinging multibody), the
-    /// absolute part the solver's slop in slow ones.
-    ///
-    /// Tuned with Rapier's default parameters on the quiet scenes of
-    /// `tests/monitor_detect_hanging.rs`: the largest excess over tolerance seen was 0.35 in
-    /// a settling 300-sphere pile (columns of spheres landing on each other; 0.19 J/kg),
-    /// 0.22 for the pendulum multibody, 0.12 for the DIKU scene, below 0.001 for bounces
-    /// with restitution 0.8 and 1, colliding balls and the toppling stack. A launch by
-    /// position correction (two 0.5 m boxes created 0.3 m into each other, Rapier's
-    /// stabilisation pass off) measures 2 with Rapier's soft contacts and 130 with
-    /// stiff ones (300 Hz, 100 m/s correction cap); releasing a box fixated with
-    /// `set_additional_mass(1e6)` measures 33,000. With Rapier's defaults the same
-    /// overlap is resolved at 0.2 m/s and measures 0.04: not a launch.
-    pub launch_relative: Real,
-    /// Launch tolerance, absolute part, in joules per kilogram of the gainers' mass.
-    /// Default 0.5 J/kg: the gainers as a whole thrown at 1 m/s from rest. See
-    /// [`Self::launch_relative`].
-    pub launch_per_kg: Real,
-    /// The smallest cosine between a contact's push and `-gravity` that still counts as
-    /// support. Default 0.0: any upward component supports (a body on a fixed slope is
-    /// supported). Must be in `[0, 1)`.
-    pub min_support_cos: Real,
-    /// The largest unexplained push an awake body may put on a held (fixated) body
-    /// across gravity or up, in three steps in a row: the push its weight and its other
-    /// contacts do not explain (its momentum lost, a user's force), in units of its
-    /// weight over the step or its load if larger (see the module docs). Default 2.0:
-    /// a box driven at 0.3 m/s into a held box (`dt` = 0.01) measures about 3, a box
-    /// pushed with a constant force `F` measures `F` over its weight; bodies settling
-    /// on a held pile under [`crate::speedups::SpeedUps::reliable_sleep`] stay below
-    /// it for three steps in a row.
-    #[cfg_attr(feature = "serde", serde(default = "default_unresponsive_push"))]
-    pub unresponsive_push: Real,
-}
-
-#[cfg(feature = "serde")]
-fn default_unresponsive_push() -> Real {
-    MonitorConfig::default().unresponsive_push
-}
-
-impl Default for MonitorConfig {
-    fn default() -> Self {
-        Self {
-            hang_time: 0.1,
-            penetration_fraction: 0.1,
-            launch_relative: 0.05,
-            launch_per_kg: 0.5,
-            min_support_cos: 0.0,
-            unresponsive_push: 2.0,
-        }
-    }
-}
-
-impl MonitorConfig {
-    /// Checks every field: all must be finite and non-negative, and
-    /// `min_support_cos < 1`. An [`Error::InvalidParameter`] names the first bad one.
-    pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("hang_time", self.hang_time),
-            ("penetration_fraction", self.penetration_fraction),
-            ("launch_relative", self.launch_relative),
-            ("launch_per_kg", self.launch_per_kg),
-            ("min_support_cos", self.min_support_cos),
-            ("unresponsive_push", self.unresponsive_push),
-        ];
-        for (name, value) in fields {
-            if !value.is_finite() || value < 0.0 {
-                return Err(Error::InvalidParameter {
-                    name,
-                    reason: format!("must be finite and non-negative, got {value}"),
-                });
-            }
-        }
-        if self.min_support_cos >= 1.0 {
-            return Err(Error::InvalidParameter {
-                name: "min_support_cos",
-                reason: format!(
-                    "must be below 1 (no contact could support), got {}",
-                    self.min_support_cos
-                ),
-            });
-        }
-        Ok(())
-    }
-}
-
-/// One reported violation.
-#[derive(Copy, Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Violation {
-    /// The layer's step it was found in ([`LayerAnalysis::current_step`](crate::LayerAnalysis::current_step)).
-    pub step: u64,
-    /// What went wrong.
-    pub kind: ViolationKind,
-    /// The body it is reported on: the hanging body; the group's body with the largest
-    /// kinetic energy gain; the smaller body of a deep contact (the other one if the
-    /// smaller is static geometry); the escaped body; the held body an awake body
-    /// pressed.
-    pub body: RigidBodyHandle,
-    /// The body's node, if the graph has one.
-    pub node: Option<NodeId>,
-    /// The measure: seconds without support; excess energy of the group in joules;
-    /// penetration depth in metres; for an escape, the number of non-finite scalars in
-    /// the pose (7) and velocities (6) — 0 for a body Rapier's quarantine already reset;
-    /// for an unresponsive body, the largest push across gravity on it in units of the
-    /// pusher's weight over the step plus its push along gravity.
-    pub value: Real,
-}
-
-/// Violations per kind.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ViolationCounts {
-    /// Hanging sleepers.
-    pub hanging_sleeper: u64,
-    /// Launches.
-    pub launch: u64,
-    /// Deep penetrations.
-    pub deep_penetration: u64,
-    /// Escapes.
-    pub escape: u64,
-    /// Unresponsive held bodies.
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub unresponsive: u64,
-}
-
-impl ViolationCounts {
-    /// The count of one kind.
-    pub fn get(&self, kind: ViolationKind) -> u64 {
-        match kind {
-            ViolationKind::HangingSleeper => self.hanging_sleeper,
-            ViolationKind::Launch => self.launch,
-            ViolationKind::DeepPenetration => self.deep_penetration,
-            ViolationKind::Escape => self.escape,
-            ViolationKind::Unresponsive => self.unresponsive,
-        }
-    }
-
-    /// The sum over all kinds.
-    pub fn total(&self) -> u64 {
-        self.hanging_sleeper + self.launch + self.deep_penetration + self.escape + self.unresponsive
-    }
-
-    fn add(&mut self, kind: ViolationKind) {
-        match kind {
-            ViolationKind::HangingSleeper => self.hanging_sleeper += 1,
-            ViolationKind::Launch => self.launch += 1,
-            ViolationKind::DeepPenetration => self.deep_penetration += 1,
-            ViolationKind::Escape => self.escape += 1,
-            ViolationKind::Unresponsive => self.unresponsive += 1,
-        }
-    }
-}
-
-/// The largest values each detector measured since the monitor was created, as a
-/// fraction of its threshold (below 1: never fired). For tuning thresholds and for
-/// reporting how close a run came to a violation.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Peaks {
-    /// Longest time a held body went unsupported, over `hang_time` (0 when
-    /// `hang_time` is 0).
-    pub hang: Real,
-    /// Largest excess energy of a checked group, over its tolerance.
-    pub launch: Real,
-    /// Largest excess energy of a checked group, in joules.
-    pub launch_excess: Real,
-    /// Deepest penetration, over `penetration_fraction ×` the smaller body's size.
-    pub penetration: Real,
-    /// Largest push on a held body across gravity, over `unresponsive_push` (0 when
-    /// `unresponsive_push` is 0, and while nothing is held).
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub unresponsive: Real,
-}
+use crate::{Result, WorldView};
 
 /// The plausibility monitor: call [`Monitor::check`] once after each step's analysis.
 ///
@@ -596,80 +353,4 @@ pub(crate) fn simulated(layer: AnalysisView, n: NodeId) -> Option<RigidBodyHandl
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn default_config_is_valid_and_matches_design() {
-        let c = MonitorConfig::default();
-        c.validate().unwrap();
-        assert_eq!(c.hang_time, 0.1);
-        assert_eq!(c.penetration_fraction, 0.1);
-        assert_eq!(c.unresponsive_push, 2.0);
-        assert!(Monitor::new(c).is_ok());
-    }
-
-    #[test]
-    fn bad_configs_are_refused_by_name() {
-        type Edit = fn(&mut MonitorConfig);
-        let cases: [(&str, Edit); 9] = [
-            ("hang_time", |c| c.hang_time = Real::NAN),
-            ("hang_time", |c| c.hang_time = -0.1),
-            ("penetration_fraction", |c| {
-                c.penetration_fraction = Real::INFINITY
-            }),
-            ("launch_relative", |c| c.launch_relative = -1.0),
-            ("launch_per_kg", |c| c.launch_per_kg = Real::NAN),
-            ("min_support_cos", |c| c.min_support_cos = -0.5),
-            ("min_support_cos", |c| c.min_support_cos = 1.0),
-            ("unresponsive_push", |c| c.unresponsive_push = -1.0),
-            ("unresponsive_push", |c| {
-                c.unresponsive_push = Real::INFINITY
-            }),
-        ];
-        for (want, edit) in cases {
-            let mut c = MonitorConfig::default();
-            edit(&mut c);
-            match c.validate() {
-                Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, want),
-                other => panic!("{c:?}: expected an error on {want}, got {other:?}"),
-            }
-            assert!(Monitor::new(c).is_err());
-        }
-        let zero = MonitorConfig {
-            hang_time: 0.0,
-            penetration_fraction: 0.0,
-            launch_relative: 0.0,
-            launch_per_kg: 0.0,
-            min_support_cos: 0.0,
-            unresponsive_push: 0.0,
-        };
-        zero.validate().unwrap();
-    }
-
-    #[test]
-    fn counts_by_kind() {
-        let mut c = ViolationCounts::default();
-        c.add(ViolationKind::Launch);
-        c.add(ViolationKind::Launch);
-        c.add(ViolationKind::Escape);
-        c.add(ViolationKind::Unresponsive);
-        assert_eq!(c.get(ViolationKind::Launch), 2);
-        assert_eq!(c.get(ViolationKind::Escape), 1);
-        assert_eq!(c.get(ViolationKind::Unresponsive), 1);
-        assert_eq!(c.unresponsive, 1);
-        assert_eq!(c.get(ViolationKind::HangingSleeper), 0);
-        assert_eq!(c.total(), 4);
-        let names: Vec<_> = ViolationKind::ALL.iter().map(|k| k.name()).collect();
-        assert_eq!(
-            names,
-            [
-                "hanging_sleeper",
-                "launch",
-                "deep_penetration",
-                "escape",
-                "unresponsive"
-            ]
-        );
-    }
-}
+mod tests;

@@ -97,6 +97,7 @@ impl Penetration {
         Some(s)
     }
 
+    // Long: one pass over the refreshed bodies' edges under either tracking, with its episode upkeep.
     pub(crate) fn check(
         &mut self,
         ctx: &Ctx,

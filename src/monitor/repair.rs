@@ -25,32 +25,20 @@
 //!     lowered to [`RepairConfig::corrective_cap`] while any such body is fresh), so
 //!     that the penetration it built up while held is pushed out gently instead of
 //!     throwing it (paper Fig. 15 ♠);
-//!   - *a launch* that happened anyway is stopped: the velocities of the launched
-//!     group are scaled down so that the excess energy the detector measured is taken
-//!     out again (the launch itself was one step long, and stays counted);
+//!   - *a launch* that happened anyway is stopped: the launched group's velocities are
+//!     scaled down to take the excess energy out again (the launch stays counted);
 //!   - *a contact on its way to a deep penetration* (deeper than
 //!     [`RepairConfig::penetration_warning`] of the limit) makes the speed-ups that
-//!     thin out the solver (tweak and reduce) stand down for
+//!     thin out the solver (fewer iterations and deepest contact only) stand down for
 //!     [`RepairConfig::cap_steps`] steps: full iterations, every contact point.
 //!
 //!   Each action is reported as an [`EventKind::Repaired`] event naming the body and
 //!   the violation it prevents.
 //!
-//! # Why act before the violation
-//! A repair that waits for the violation to be reported repairs nothing a user could
-//! see: the sphere has already hung for 0.1 s. The hanging detector times every
-//! unsupported held body from its first step, so repair acts on the timer, not on the
-//! report, and the body falls in the step after its support went. Launches cannot be
-//! seen coming (the energy appears inside Rapier's step), so they are prevented where
-//! they come from (released bodies' corrections) and stopped where they happen.
-//!
-//! Rejected: waking the whole world when something is wrong (correct, but it throws
-//! away every speed-up for every body); re-running the step (Rapier has no undo, and a
-//! snapshot per step costs more than the speed-ups save).
-//!
-//! # Determinism
-//! Repairs are applied in body-handle order, so the same inputs give the same writes
-//! into Rapier and the same trajectories.
+//! Repair acts on the hanging detector's timer, not on the report, so a body falls in
+//! the step after its support went; why, and what was rejected: `docs/ARCHITECTURE.md`
+//! ("Repair"). Repairs are applied in body-handle order: the same inputs give the same
+//! writes into Rapier.
 //!
 //! # Cost
 //! Report: the detectors' cost (see [`super`]). Repair: O(members of the groups
@@ -100,10 +88,10 @@ pub struct RepairConfig {
     /// Rapier's `normalized_max_corrective_velocity` while a released or woken body is
     /// fresh (Rapier's default is 3). Default 0.5.
     pub corrective_cap: Real,
-    /// Steps a released or woken body stays fresh, and a deep penetration keeps tweak
-    /// and reduce standing down. Default 10.
+    /// Steps a released or woken body stays fresh, and a deep penetration keeps fewer
+    /// iterations and deepest contact only standing down. Default 10.
     pub cap_steps: u32,
-    /// The early warning of a deep penetration: tweak and reduce stand down as soon as
+    /// The early warning of a deep penetration: fewer iterations and deepest contact only stand down as soon as
     /// a contact is deeper than this fraction of the deep-penetration limit. Default
     /// 0.5. In `(0, 1]`.
     pub penetration_warning: Real,
@@ -159,7 +147,7 @@ enum Action {
     Release(RigidBodyHandle),
     /// Scale the velocities of the body's group by this factor.
     Damp(RigidBodyHandle, Real),
-    /// Stand tweak and reduce down.
+    /// Stand fewer iterations and deepest contact only down.
     Thicken,
 }
 
@@ -172,7 +160,7 @@ pub struct RepairCounts {
     pub woken: u64,
     /// Launched groups slowed down.
     pub damped: u64,
-    /// Steps in which tweak and reduce stood down for a deep penetration.
+    /// Steps in which fewer iterations and deepest contact only stood down for a deep penetration.
     pub thickened: u64,
 }
 
@@ -189,7 +177,7 @@ pub struct LayerMonitor {
     /// Bodies released or woken by repair or fixation, with the step their
     /// freshness ends.
     fresh: BTreeMap<(u32, u32), u64>,
-    /// Tweak and reduce stand down until this step.
+    /// Fewer iterations and deepest contact only stand down until this step.
     thick_until: u64,
     /// Rapier's corrective velocity before the cap (restored after it).
     saved_cap: Option<Real>,
@@ -245,7 +233,7 @@ impl LayerMonitor {
         self.totals
     }
 
-    /// Whether tweak and reduce stand down (a deep penetration was seen within the
+    /// Whether fewer iterations and deepest contact only stand down (a deep penetration was seen within the
     /// last [`RepairConfig::cap_steps`] steps).
     pub fn thinning_suspended(&self) -> bool {
         self.thick_until > self.step
@@ -264,6 +252,7 @@ impl LayerMonitor {
     /// Plans the repairs for what the last check found and appends the events.
     /// `fixation_released` are the bodies the speed-ups release in the next pre-step.
     #[allow(clippy::too_many_arguments)]
+    // Long: one planning pass per kind of finding, in the order the module doc lists them.
     pub(crate) fn plan(
         &mut self,
         step: u64,
@@ -360,7 +349,7 @@ impl LayerMonitor {
                         self.planned.push(Action::Damp(v.body, keep.sqrt()));
                         repaired.push(*v);
                     }
-                    // The thinned solver (tweak) is what throws bodies when warm
+                    // The thinned solver (fewer iterations) is what throws bodies when warm
                     // start over-corrects: full strength for a while.
                     if !self.planned.contains(&Action::Thicken) {
                         self.planned.push(Action::Thicken);
@@ -391,6 +380,7 @@ impl LayerMonitor {
 
     /// Applies the planned repairs to the world, before Rapier's step. Returns the
     /// nodes woken (their groups are disturbed by the caller when subgrouping).
+    // Long: applies each planned kind of repair in turn within the pre-step's one borrow of the world.
     pub(crate) fn apply(
         &mut self,
         world: &mut WorldMut,

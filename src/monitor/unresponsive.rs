@@ -6,60 +6,13 @@
 //! a box creeping sideways) is not seen coming, and the held body stops the pusher as
 //! a wall would, where a sleeping Rapier pile would wake and be pushed.
 //!
-//! # The criterion
-//! What a contact carries is the impulse the solver put into it in the step. For an
-//! awake dynamic body `D` (the pusher) that is not held and touches a held body `H`,
-//! every collider pair of `D` gives the impulse on `D`: the normal part (each solver
-//! contact's `data.impulse` times its manifold's `data.normal`, which points from
-//! `collider1` to `collider2` and pushes collider 2's body) and the friction part
-//! (`data.warmstart_tangent_world`, the world-space friction impulse Rapier writes
-//! back after the solve, on collider 1's body). Their sum `P` with gravity's
-//! `m_D·g·dt` is what moved `D` in the step, so
-//!
-//! `U = −(m_D·g·dt + P)`
-//!
-//! is what the pusher brought that gravity and its contacts do not explain: the
-//! momentum it lost and the user's push on it (a force, a velocity set before the
-//! step). A resting pusher, however loaded, has `U ≈ 0`: what presses it into `H`
-//! (its weight, bodies on it, a wedge) is in `P`. Of `U`, the part along gravity is
-//! dropped (a body landing on `H`, or pressed onto it from above, pushes it into
-//! what holds it up, as onto the ground), and what is left is projected on the
-//! direction of the impulse `J` on `H`: the share of the pusher's unexplained push
-//! that `H` took. The measure is that share over `max(m_D·|g|·dt, L)`, `L` the sum of
-//! the lengths of the impulses of `D`'s other pairs (its load):
-//!
-//! `value = max(0, (U − max(U·ĝ, 0)·ĝ) · Ĵ) / max(m_D·|g|·dt, L)`.
-//!
-//! A box driven at speed `v` into `H` across gravity measures `v / (|g|·dt)` (3.06 at
-//! 0.3 m/s and `dt` = 0.01, a little less where the contact takes a step to close), a
-//! box pushed by a constant force `F` measures `F / (m_D·|g|)`. A body at rest
-//! measures what the solver leaves unbalanced (position correction, the friction of
-//! the last substep), relative to its load, which in a settling pile can reach the
-//! push's values for a step; so can a sphere rolling slowly into a held one, in the
-//! step it hits. So `H` is unresponsive when the measure exceeds
-//! [`MonitorConfig::unresponsive_push`] in [`PRESS_STEPS`] checks in a row: a push is
-//! sustained, an imbalance or an impact is not (`tests/monitor_detect_unresponsive.rs`
-//! has the scenes and what they measure). Without gravity, `|g|` is the standard
-//! gravity (9.81 m/s²) in the unit and nothing is dropped.
-//!
-//! Rejected: the push on `H` alone, without the pusher's balance (a pile at rest
-//! wedges its bodies sideways against each other with many times their weight);
-//! normal impulses alone (the friction a loaded body gets is then unexplained); the
-//! penetration of
-//! the pair (a held body does not give way, so the solver keeps a pusher out of it
-//! as out of the ground: the depth stays that of a resting contact while the push
-//! lasts); the pusher's velocity (a body at rest pressed by a force has none).
-//!
-//! # Episodes
-//! One violation per held body while it is pressed over the threshold, in the check
-//! that makes it [`PRESS_STEPS`] in a row; the episode ends in the first check in
-//! which no awake body presses it so (released, the pusher stopped or held too).
-//!
-//! # Not covered
-//! A push passed on through an awake body: the body between is pushed by the pusher,
-//! which explains its push on the held body, so only a held body the pusher touches
-//! is seen. The speed-ups' group release frees with it the held bodies it touched
-//! when it was held; a held body further on, across a gap, stops the push again.
+//! The measure: what the pusher brought that gravity and its contacts' impulses do not
+//! explain (its lost momentum, a user's push), less the part along gravity, projected
+//! on the impulse into the held body, over the pusher's weight or load. A held body is
+//! unresponsive when that exceeds [`MonitorConfig::unresponsive_push`] in
+//! [`PRESS_STEPS`] checks in a row (a push is sustained; an imbalance or an impact is
+//! not); one violation per episode. The derivation, what it was chosen over and what
+//! it does not cover: `docs/ARCHITECTURE.md` ("Unresponsive held bodies").
 //!
 //! # Cost
 //! Nothing while the speed-ups hold no body (or are off). Otherwise O(edges of the
@@ -151,6 +104,7 @@ impl Unresponsive {
         &self.confirmed
     }
 
+    // Long: the measure's terms (module doc) are summed in one pass over each pusher's contact pairs.
     pub(crate) fn check(
         &mut self,
         ctx: &Ctx,

@@ -81,6 +81,7 @@ impl SpeedUpState {
     /// refreshed body faster than `release_speed` that is not sleepy, and each moving
     /// kinematic body, with the mass its momentum may set moving. O(such bodies ×
     /// (log bodies + boxes met)).
+    // Long: one sweep per moving body over what it reaches, its joints and the momentum shared.
     fn reached(
         &self,
         graph: &ContactGraph,

@@ -225,6 +225,7 @@ pub struct Run {
 
 /// Runs `config` on the scene `build` builds from `params`. Errors: a configuration
 /// the layer refuses. O(steps · Rapier's step).
+// Long: the step loop measures and judges in one pass over the steps.
 pub fn run(config: &Config, build: Builder, params: &DisturbParams) -> Result<Run, String> {
     let mut d = build(params);
     let fail =

@@ -12,44 +12,12 @@
 //! [`frames`] draws pictures of a scene: what Rapier's own debug renderer draws, each
 //! collider's lines in the colour of its body's state, as in the paper's Fig. 17.
 //!
-//! # Design
-//! Until the laboratory moved out of the plugin, this module drew with its own hand-written chart layout, SVG writer,
-//! anti-aliasing rasteriser, 5×9 bitmap font and PNG encoder (stored deflate blocks:
-//! a chart was 1.9 MB). Each is now a library's job:
-//! - **[plotters]** draws the chart: coordinate system, mesh (grid, ticks, tick
-//!   labels, axis descriptions), elements and the legend box, on its SVG back end
-//!   (text) and its bitmap back end (an RGB buffer). One drawing routine serves both,
-//!   so the two pictures agree on where things are. What stays here is the chart's
-//!   content: which points are drawable, the front, the axis ranges and 1-2-5 ticks
-//!   (handed to plotters as fixed key points), the markers (one plotters element per
-//!   point, also used by the legend), where the legend and the labels go. Given up
-//!   with the hand-written SVG: a tooltip per point (plotters' SVG back end writes
-//!   no groups or titles). Rejected: `charming` (renders PNG through a JavaScript
-//!   runtime), `poloto` (SVG only) and `plotly` (HTML and JavaScript).
-//! - **Text** is DejaVu Sans from the `dejavu` crate, rasterised by plotters'
-//!   `ab_glyph` back end (pure Rust). plotters' default `ttf` back end goes through
-//!   `font-kit`, which needs the system's fontconfig and FreeType, absent on a CI
-//!   machine with only a Rust toolchain (see `text`).
-//! - **[the `png` crate](::png)** (image-rs) encodes the bitmaps with zlib
-//!   compression: the chart PNG is tens of kilobytes; tests decode with the same
-//!   crate. Rejected: `image`, which wraps `png` with codecs the lab does not need.
-//! - **[tiny_skia]** rasterises the frames' lines with anti-aliasing, which plotters'
-//!   bitmap back end does not do for lines (it has no text: the frames' caption and
-//!   legend are set by plotters on the same pixels).
-//! - **Deterministic.** No clocks, threads or hash order in what is drawn: the same
-//!   input gives the same bytes, SVG and PNG.
-//! - **Forgiving.** Points with a non-finite deviation or speed-up (and, on a log
-//!   axis, a speed-up ≤ 0) are left out and counted in the caption; an empty input
-//!   gives empty axes that say "no data"; a degenerate range (one point, all
-//!   deviations 0) is widened; control characters in labels are replaced, so the SVG
-//!   stays well formed. Nothing here panics on data; an error of a back end (none is
-//!   expected: both draw to memory) leaves the picture as far as it got.
-//! - **Little clutter.** Only the front's points and the special configurations
-//!   (reference, brute force, contact graph, stock Rapier) are labelled, placed
-//!   greedily where they overlap nothing, with a leader line when pushed away.
-//!   Repaired runs are teal stars, points with violations red crosses.
-//!
-//! ```
+//! plotters draws the charts (SVG and bitmap back ends, one drawing routine), text is
+//! DejaVu Sans through plotters' pure-Rust `ab_glyph`, the `png` crate encodes and
+//! tiny-skia rasterises the frames' lines. Deterministic (same input, same bytes) and
+//! forgiving (non-finite points left out and counted; nothing panics on data). Choices
+//! and rejected libraries: `docs/ARCHITECTURE.md` ("Charts").
+//!//! ```
 //! use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
 //!
 //! let points = vec![

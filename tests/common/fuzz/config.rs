@@ -6,9 +6,8 @@ use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::KindSet;
 
-/// Whether the layer recovers from Rapier steps it did not see (item 1 of issue 30:
-/// in since "Steps the layer did not see: a witness of a few awake bodies", 44bc3d8).
-/// Before it, steps the layer does not see and a second layer taking turns failed
+/// Whether the layer recovers from Rapier steps it did not see (the unseen-step
+/// witness of a few awake bodies). Without it, steps the layer does not see and a second layer taking turns failed
 /// under touching tracking ("Rapier pair of nodes 3–4 has no edge"), and the generator
 /// made them only under the proximity configuration (where the layer reads every pair
 /// each step). `FUZZ_UNSEEN=0` turns them off everywhere, `FUZZ_UNSEEN=1` on.

@@ -8,6 +8,8 @@ use std::f32::consts::FRAC_PI_4;
 
 use rapier3d::prelude::*;
 
+use super::lines::*;
+use super::paint::*;
 use super::*;
 use crate::report::tests::decode_checked;
 
