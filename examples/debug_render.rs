@@ -108,7 +108,7 @@ fn main() {
     let mut layer = ContactLayer::new();
     layer
         .set_speedups(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .expect("valid speed-ups");

@@ -167,7 +167,7 @@ fn rapier_panics_a_deferred_fixation_is_checked_again_when_applied() {
     let mut layer = ContactLayer::new();
     layer
         .set_speedups(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();

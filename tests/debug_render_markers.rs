@@ -122,8 +122,8 @@ fn markers_show_bodies_held_by_fixation() {
     let mut layer = ContactLayer::new();
     layer
         .set_speedups(Some(SpeedUps {
-            fixate: true,
-            subgroup: true,
+            hold: true,
+            insulate_sleepy: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();

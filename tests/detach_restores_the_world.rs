@@ -10,7 +10,6 @@ mod common;
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Rule, WorldMut};
 
 use common::build::*;
@@ -154,7 +153,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
         layer.validate(&world).unwrap();
         if i == 20 {
             layer
-                .set_speedups(Some(SpeedUps::combination(127)))
+                .set_speedups(Some(rcg_lab::table5::combination(127)))
                 .unwrap();
         }
         if i == 30 {
@@ -187,7 +186,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
             }
             20 => layer.set_speedups(None).unwrap(),
             40 => layer
-                .set_speedups(Some(SpeedUps::combination(0b101_0101)))
+                .set_speedups(Some(rcg_lab::table5::combination(0b101_0101)))
                 .unwrap(),
             60 => {
                 layer.remove_rule(between).unwrap();

@@ -19,7 +19,7 @@ use rcg_scenes::{sphere_pile, sphere_stack, Scene};
 
 fn fixate_all() -> SpeedUps {
     SpeedUps {
-        fixate: true,
+        hold: true,
         ..SpeedUps::contact_graph()
     }
 }
@@ -126,7 +126,7 @@ fn report_mode_does_not_change_motion() {
         let mut scene = sphere_pile(60, 7);
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps::combination(127)))
+            .set_speedups(Some(rcg_lab::table5::combination(127)))
             .unwrap();
         if let Some(mode) = mode {
             layer

@@ -16,7 +16,6 @@ use common::pose_bits;
 use rapier3d::prelude::*;
 use rapier_contact_graph::logic::IgnorePredicate;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, NodeId, Rule};
 use rcg_scenes::{self as scenes, Scene};
 
@@ -211,7 +210,7 @@ fn a_restored_layer_with_every_speed_up_and_repair_continues_bit_for_bit() {
     let layer_with_everything = || {
         let mut layer = ContactLayer::new();
         layer
-            .set_speedups(Some(SpeedUps::combination(127)))
+            .set_speedups(Some(rcg_lab::table5::combination(127)))
             .unwrap();
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
         layer.set_monitor(MonitorMode::Repair, c, r).unwrap();

@@ -12,7 +12,6 @@ mod common;
 use common::{pose_bits, run_validated};
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes::sphere_pile;
 
@@ -72,7 +71,7 @@ fn run(bits: u8, tracking: Tracking) -> Vec<After> {
     let mut scene = sphere_pile(60, 7);
     let mut layer = ContactLayer::with_tracking(tracking);
     layer
-        .set_speedups(Some(SpeedUps::combination(bits)))
+        .set_speedups(Some(rcg_lab::table5::combination(bits)))
         .unwrap();
     (0..400)
         .map(|step| {

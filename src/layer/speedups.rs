@@ -123,8 +123,8 @@ impl ContactLayer {
         match config {
             Some(c) => {
                 c.validate()?;
-                let was = self.speedups().map(|s| s.config().subgroup);
-                if was.unwrap_or(false) != c.subgroup {
+                let was = self.speedups().map(|s| s.config().insulate_sleepy);
+                if was.unwrap_or(false) != c.insulate_sleepy {
                     self.regroup_all();
                 }
                 match &mut self.speedups {
@@ -133,7 +133,7 @@ impl ContactLayer {
                 }
             }
             None => {
-                if self.speedups().is_some_and(|s| s.config().subgroup) {
+                if self.speedups().is_some_and(|s| s.config().insulate_sleepy) {
                     self.regroup_all();
                 }
                 if let Some(s) = &mut self.speedups {

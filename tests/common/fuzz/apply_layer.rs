@@ -4,7 +4,6 @@
 
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::rapier3d::prelude::*;
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{Category, Error, Filter, NodeId, NodeKind, Rule};
 
 use super::ops::{kinds_of, pick, pick_mask, raw};
@@ -239,7 +238,7 @@ impl Harness {
                     self.diverge();
                 }
                 self.layer
-                    .set_speedups(bits.map(SpeedUps::combination))
+                    .set_speedups(bits.map(rcg_lab::table5::combination))
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
             Op::Monitor(on) => {
