@@ -27,7 +27,6 @@ use clap::Parser;
 use cpu_time::ThreadTime;
 use rapier3d::prelude::PhysicsWorld;
 use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldView};
 use rcg_scenes as scenes;
 
@@ -123,12 +122,15 @@ fn main() {
         Runner::plain("brute force", brute),
     ];
     for label in &args.configs {
-        let Some(bits) = SpeedUps::combination_bits(label) else {
+        let Some(bits) = rcg_lab::table5::combination_bits(label) else {
             eprintln!("diku_cost: {label:?} is not a CTRZDSF label or a number below 128");
             std::process::exit(2);
         };
         let mut layer = ContactLayer::new();
-        if let Err(e) = layer.speedups_mut().set(Some(SpeedUps::combination(bits))) {
+        if let Err(e) = layer
+            .speedups_mut()
+            .set(Some(rcg_lab::table5::combination(bits)))
+        {
             eprintln!("diku_cost: {label}: {e}");
             std::process::exit(2);
         }

@@ -109,7 +109,7 @@ fn main() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .expect("valid speed-ups");

@@ -219,7 +219,7 @@ fn rapier_panics_a_deferred_fixation_is_checked_again_when_applied() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();

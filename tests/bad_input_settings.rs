@@ -18,7 +18,7 @@ use common::audit::*;
 #[test]
 fn set_speedups_refuses_bad_parameters() {
     let (mut world, _, _, mut layer) = stepped(3);
-    let base = SpeedUps::combination(127);
+    let base = rcg_lab::table5::combination(127);
     let bad = [
         SpeedUps {
             sleepy_energy: Real::NAN,
@@ -29,7 +29,7 @@ fn set_speedups_refuses_bad_parameters() {
             ..base.clone()
         },
         SpeedUps {
-            reduce_depth: Real::INFINITY,
+            deepest_contact_depth: Real::INFINITY,
             ..base.clone()
         },
         SpeedUps {
@@ -49,7 +49,7 @@ fn set_speedups_refuses_bad_parameters() {
             ..base.clone()
         },
         SpeedUps {
-            tweak_iterations: 0,
+            fewer_iterations_count: 0,
             ..base.clone()
         },
     ];
@@ -65,7 +65,7 @@ fn set_speedups_refuses_bad_parameters() {
     // Zero thresholds and huge finite ones are in range and change nothing fatal.
     let edge = SpeedUps {
         sleepy_energy: 0.0,
-        reduce_depth: Real::MAX,
+        deepest_contact_depth: Real::MAX,
         damping: Real::MAX,
         release_speed: 0.0,
         sleepy_steps: u32::MAX,
@@ -140,7 +140,7 @@ fn speedups_validate() {
             ..ok.clone()
         },
         SpeedUps {
-            reduce_depth: -0.0001,
+            deepest_contact_depth: -0.0001,
             ..ok.clone()
         },
         SpeedUps {
@@ -160,7 +160,7 @@ fn speedups_validate() {
             ..ok.clone()
         },
         SpeedUps {
-            tweak_iterations: 0,
+            fewer_iterations_count: 0,
             ..ok.clone()
         },
     ] {
@@ -170,7 +170,10 @@ fn speedups_validate() {
         );
     }
     // Bits above the seven switches are ignored.
-    assert_eq!(SpeedUps::combination(255), SpeedUps::combination(127));
+    assert_eq!(
+        rcg_lab::table5::combination(255),
+        rcg_lab::table5::combination(127)
+    );
 }
 
 #[test]
@@ -178,7 +181,7 @@ fn speedup_state_queries_with_foreign_handles() {
     let (mut world, _, ball, mut layer) = stepped(0);
     layer
         .speedups_mut()
-        .set(Some(SpeedUps::combination(127)))
+        .set(Some(rcg_lab::table5::combination(127)))
         .unwrap();
     for _ in 0..200 {
         layer.step(&mut world);

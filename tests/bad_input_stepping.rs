@@ -12,7 +12,6 @@ use std::sync::{Arc, Mutex};
 use rapier3d::prelude::*;
 use rapier_contact_graph::events::{EventKind, Filter, KindSet};
 use rapier_contact_graph::monitor::{Monitor, MonitorConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Error, NodeKind, Rule, WorldMut, WorldView};
 
 use common::audit::*;
@@ -48,7 +47,7 @@ fn step_with_non_finite_state_and_foreign_worlds() {
         }),
     ];
     for (what, corrupt) in corruptions {
-        for speedups in [None, Some(SpeedUps::combination(127))] {
+        for speedups in [None, Some(rcg_lab::table5::combination(127))] {
             let (mut world, _, ball, mut layer) = stepped(5);
             layer.speedups_mut().set(speedups.clone()).unwrap();
             let node = layer.graph().try_node_of_body(ball).unwrap();

@@ -126,8 +126,8 @@ fn markers_show_bodies_held_by_fixation() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            fixate: true,
-            subgroup: true,
+            hold: true,
+            insulate_sleepy: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();

@@ -10,7 +10,6 @@ mod common;
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldMut};
 
 use common::build::*;
@@ -156,7 +155,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
         if i == 20 {
             layer
                 .speedups_mut()
-                .set(Some(SpeedUps::combination(127)))
+                .set(Some(rcg_lab::table5::combination(127)))
                 .unwrap();
         }
         if i == 30 {
@@ -191,7 +190,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
             20 => layer.speedups_mut().set(None).unwrap(),
             40 => layer
                 .speedups_mut()
-                .set(Some(SpeedUps::combination(0b101_0101)))
+                .set(Some(rcg_lab::table5::combination(0b101_0101)))
                 .unwrap(),
             60 => {
                 layer.logic_mut().remove_rule(between).unwrap();

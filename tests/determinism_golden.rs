@@ -2,7 +2,7 @@
 //! determinism tests).
 //!
 //! One fixed scene is run for 1,000 steps in four modes:
-//! - `all`: the layer with every speed-up on (`SpeedUps::combination(127)`, "CTRZDSF");
+//! - `all`: the layer with every speed-up on (`rcg_lab::table5::combination(127)`, "CTRZDSF");
 //! - `none`: the layer with the speed-ups attached but all off (`SpeedUps::none()`);
 //! - `observe`: the plain observe-only layer (no speed-ups, no rules);
 //! - `plain`: stock Rapier, no layer at all.
@@ -117,7 +117,7 @@ enum Mode {
 
 impl Mode {
     fn all() -> Self {
-        Mode::SpeedUps(SpeedUps::combination(127))
+        Mode::SpeedUps(rcg_lab::table5::combination(127))
     }
     fn none() -> Self {
         Mode::SpeedUps(SpeedUps::none())
@@ -275,8 +275,8 @@ fn first_run(mode: &Mode) -> &'static Outcome {
         Mode::Plain => &PLAIN,
         Mode::Observe => &OBSERVE,
         Mode::SpeedUps(c) if *c == SpeedUps::none() => &NONE,
-        Mode::SpeedUps(c) if *c == SpeedUps::combination(127) => &ALL,
-        Mode::SpeedUps(c) => panic!("no cached run for {c}"),
+        Mode::SpeedUps(c) if *c == rcg_lab::table5::combination(127) => &ALL,
+        Mode::SpeedUps(c) => panic!("no cached run for {}", rcg_lab::table5::full_label(c)),
     };
     cell.get_or_init(|| run(mode))
 }

@@ -24,7 +24,7 @@ fn containers(layer: &ContactLayer) -> Vec<(NodeKind, usize)> {
     v
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_containers_follow_a_jointed_body_changing_type() {
     let mut world = PhysicsWorld::new();
@@ -51,7 +51,7 @@ fn fixed_containers_follow_a_jointed_body_changing_type() {
     assert_eq!(containers(&layer), containers(&fresh));
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_containers_follow_a_joint_swapped_for_another_between_steps() {
     let mut world = PhysicsWorld::new();
@@ -76,7 +76,7 @@ fn fixed_containers_follow_a_joint_swapped_for_another_between_steps() {
     assert!(in_container(ca), "c is jointed to a now");
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_a_fixated_jointed_body_leaves_its_container() {
     use rapier_contact_graph::speedups::SpeedUps;
@@ -92,7 +92,7 @@ fn fixed_a_fixated_jointed_body_leaves_its_container() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();
@@ -110,7 +110,7 @@ fn fixed_a_fixated_jointed_body_leaves_its_container() {
     assert_eq!(containers(&layer), containers(&fresh));
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_a_removed_container_of_passive_bodies_leaves_its_group() {
     let (mut world, _) = world_with_ground();
@@ -138,7 +138,7 @@ fn fixed_a_removed_container_of_passive_bodies_leaves_its_group() {
     layer.validate(&world).unwrap();
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_switching_subgroup_off_regroups_a_container() {
     use rapier_contact_graph::speedups::SpeedUps;
@@ -156,7 +156,7 @@ fn fixed_switching_subgroup_off_regroups_a_container() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            subgroup: true,
+            insulate_sleepy: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();
@@ -354,7 +354,7 @@ fn fixed_a_joint_to_a_passive_body_is_disabled_while_it_is_passive() {
     }
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_a_collider_added_to_a_passive_body_gets_no_edges() {
     let mut world = PhysicsWorld::new();
@@ -397,7 +397,7 @@ fn fixed_a_deferred_fixation_of_a_new_multibody_link_is_skipped() {
         layer
             .speedups_mut()
             .set(Some(SpeedUps {
-                fixate: true,
+                hold: true,
                 ..SpeedUps::contact_graph()
             }))
             .unwrap();

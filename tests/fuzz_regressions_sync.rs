@@ -14,7 +14,7 @@ use rapier_contact_graph::{ContactLayer, WorldView};
 
 use common::build::*;
 
-/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+/// Failed when this fuzzing found it; passes since the audit's fixes.
 #[test]
 fn fixed_a_layer_attached_to_a_world_with_sleeping_bodies_reads_their_pairs() {
     let (mut world, _) = world_with_ground();
@@ -34,7 +34,7 @@ fn fixed_a_layer_attached_to_a_world_with_sleeping_bodies_reads_their_pairs() {
     layer.validate(&world).unwrap();
 }
 
-/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+/// Failed when this fuzzing found it; passes since the audit's fixes.
 #[test]
 fn fixed_a_body_removed_and_another_added_between_steps_leaves_no_stale_node() {
     let (mut world, ground) = world_with_ground();
@@ -83,7 +83,7 @@ fn fixed_a_fixed_body_moved_next_to_a_sleeping_body_is_paired_after_a_full_sync(
     layer.validate(&world).unwrap();
 }
 
-/// Failed when this fuzzing found it; passes since the audit fixes (70b91a6).
+/// Failed when this fuzzing found it; passes since the audit's fixes.
 #[test]
 fn fixed_geometry_added_next_to_a_sleeping_body_is_paired() {
     let (mut world, _) = world_with_ground();
@@ -117,7 +117,7 @@ fn sleep_events(
         .collect()
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_fixation_and_release_send_alternating_sleep_events() {
     use rapier_contact_graph::events::{EventKind, Filter, KindSet};
@@ -135,7 +135,7 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            fixate: true,
+            hold: true,
             ..SpeedUps::contact_graph()
         }))
         .unwrap();
@@ -161,7 +161,7 @@ fn fixed_fixation_and_release_send_alternating_sleep_events() {
     }
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_a_body_turned_fixed_and_back_sends_alternating_sleep_events() {
     use rapier_contact_graph::events::{Filter, KindSet};
@@ -188,7 +188,7 @@ fn fixed_a_body_turned_fixed_and_back_sends_alternating_sleep_events() {
     }
 }
 
-/// Failed when this fuzzing found it; passes since 12f5045 ("Fix fuzz findings").
+/// Failed when this fuzzing found it; passes now.
 #[test]
 fn fixed_a_passive_toggle_keeps_sleep_events_alternating() {
     use rapier_contact_graph::events::{Filter, KindSet};

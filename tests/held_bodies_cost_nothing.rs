@@ -15,8 +15,8 @@ use rcg_scenes as scenes;
 fn held_config() -> SpeedUps {
     SpeedUps {
         cache: true,
-        subgroup: true,
-        fixate: true,
+        insulate_sleepy: true,
+        hold: true,
         ..SpeedUps::contact_graph()
     }
 }

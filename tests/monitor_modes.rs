@@ -19,7 +19,7 @@ use rcg_scenes::{sphere_pile, sphere_stack, Scene};
 
 fn fixate_all() -> SpeedUps {
     SpeedUps {
-        fixate: true,
+        hold: true,
         ..SpeedUps::contact_graph()
     }
 }
@@ -135,7 +135,7 @@ fn report_mode_does_not_change_motion() {
         let mut layer = ContactLayer::new();
         layer
             .speedups_mut()
-            .set(Some(SpeedUps::combination(127)))
+            .set(Some(rcg_lab::table5::combination(127)))
             .unwrap();
         if let Some(mode) = mode {
             layer

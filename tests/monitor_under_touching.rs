@@ -10,7 +10,6 @@ mod common;
 use common::{pose_bits, run_validated};
 use rapier_contact_graph::coherence::Tracking;
 use rapier_contact_graph::monitor::MonitorMode;
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes::stability::*;
 use rcg_scenes::Scene;
@@ -44,7 +43,7 @@ fn run(
     let mut layer = ContactLayer::with_tracking(tracking);
     layer
         .speedups_mut()
-        .set(Some(SpeedUps::combination(bits)))
+        .set(Some(rcg_lab::table5::combination(bits)))
         .unwrap();
     common::monitor_in(&mut layer, mode);
     let mut out = Vec::new();

@@ -16,7 +16,6 @@ use common::pose_bits;
 use rapier3d::prelude::*;
 use rapier_contact_graph::logic::IgnorePredicate;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, NodeId, Rule};
 use rcg_scenes::{self as scenes, Scene};
 
@@ -218,7 +217,7 @@ fn a_restored_layer_with_every_speed_up_and_repair_continues_bit_for_bit() {
         let mut layer = ContactLayer::new();
         layer
             .speedups_mut()
-            .set(Some(SpeedUps::combination(127)))
+            .set(Some(rcg_lab::table5::combination(127)))
             .unwrap();
         let (c, r) = (MonitorConfig::default(), RepairConfig::default());
         layer.monitor_mut().set(MonitorMode::Repair, c, r).unwrap();

@@ -1,5 +1,5 @@
 //! The speed-ups keep the user's solver settings unless changing one is the speed-up
-//! asked for: iterations (unless `iterations` or `tweak` says otherwise), warm start
+//! asked for: iterations (unless `iterations` or `fewer_iterations` says otherwise), warm start
 //! and contact recycling (unless `cache` is off); and `detach` gives back what the
 //! user last set, per-body sleep thresholds and damping included.
 
@@ -60,12 +60,12 @@ fn explicit_and_tweaked_iterations_apply_and_detach_gives_the_users_back() {
     layer
         .speedups_mut()
         .set(Some(SpeedUps {
-            tweak: true,
+            fewer_iterations: true,
             ..SpeedUps::reliable_sleep()
         }))
         .unwrap();
     layer.step(&mut world);
-    assert_eq!(iterations(&world), 1, "tweak_iterations");
+    assert_eq!(iterations(&world), 1, "fewer_iterations_count");
     layer
         .speedups_mut()
         .set(Some(SpeedUps::reliable_sleep()))
@@ -102,7 +102,7 @@ fn presets_with_cache_keep_the_users_warm_start_and_recycling() {
             (p.warmstart_coefficient, p.contact_recycling),
             (0.5, false),
             "{}",
-            preset.label()
+            rcg_lab::table5::label(&preset)
         );
         // Changed by the user while the preset runs: the user's again.
         world.integration_parameters.warmstart_coefficient = 0.8;
@@ -114,7 +114,7 @@ fn presets_with_cache_keep_the_users_warm_start_and_recycling() {
             (p.warmstart_coefficient, p.contact_recycling),
             (0.8, true),
             "{} after detach",
-            preset.label()
+            rcg_lab::table5::label(&preset)
         );
     }
 }

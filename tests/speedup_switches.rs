@@ -36,7 +36,7 @@ fn invalid_parameters_are_refused_and_change_nothing() {
     ));
     assert!(layer.speedups().is_none());
     let bad = SpeedUps {
-        tweak_iterations: 0,
+        fewer_iterations_count: 0,
         ..SpeedUps::contact_graph()
     };
     assert!(layer.speedups_mut().set(Some(bad)).is_err());
@@ -113,8 +113,8 @@ fn a_ball_dropped_on_a_sleeping_pile_wakes_exactly_the_group_it_hits() {
 fn tweak_sets_the_iteration_count_and_cache_the_caching() {
     let mut scene = scenes::ball_on_box();
     let mut layer = layer_with(SpeedUps {
-        tweak: true,
-        tweak_iterations: 2,
+        fewer_iterations: true,
+        fewer_iterations_count: 2,
         ..SpeedUps::contact_graph()
     });
     common::run_validated(&mut scene, &mut layer, 0, 2);
@@ -177,19 +177,19 @@ fn reduce_leaves_one_solver_contact_on_a_deep_pair() {
     assert_eq!(
         solver_contacts(&plain, g, c),
         4,
-        "without reduce: four contacts"
+        "without deepest_contact_only: four contacts"
     );
     let (mut world, _, g, c) = sunk_box();
     let mut layer = layer_with(SpeedUps {
-        reduce: true,
-        reduce_depth: 0.01,
+        deepest_contact_only: true,
+        deepest_contact_depth: 0.01,
         ..SpeedUps::contact_graph()
     });
     layer.step(&mut world);
     assert_eq!(
         solver_contacts(&world, g, c),
         1,
-        "with reduce: the deepest only"
+        "with deepest_contact_only: the deepest only"
     );
     assert!(world.colliders[c]
         .active_hooks()
@@ -218,7 +218,7 @@ fn bounce_height(zero: bool) -> f32 {
         ColliderBuilder::cuboid(0.5, 0.5, 0.5).restitution(1.0),
     );
     let mut layer = layer_with(SpeedUps {
-        zero,
+        no_restitution_at_rest: zero,
         ..SpeedUps::contact_graph()
     });
     for _ in 0..100 {
@@ -256,7 +256,7 @@ fn damp_sets_and_restores_linear_damping() {
     let mut scene = scenes::ball_on_box();
     let ball = scene.body("ball").unwrap();
     let mut layer = layer_with(SpeedUps {
-        damp: true,
+        viscous_damping: true,
         damping: 0.7,
         ..SpeedUps::contact_graph()
     });
@@ -276,8 +276,8 @@ fn fixate_holds_a_body_bit_identical_and_restores_it_exactly() {
     let bx = scene.body("box").unwrap();
     let mass = scene.world.bodies[bx].mass();
     let mut layer = layer_with(SpeedUps {
-        fixate: true,
-        subgroup: true,
+        hold: true,
+        insulate_sleepy: true,
         ..SpeedUps::contact_graph()
     });
     let mut fixed_at = None;
@@ -336,7 +336,7 @@ fn subgroup_splits_a_group_at_a_sleepy_body() {
             ColliderBuilder::ball(0.3).friction(0.0),
         );
         let mut layer = layer_with(SpeedUps {
-            subgroup,
+            insulate_sleepy: subgroup,
             sleepy_steps: 5,
             ..SpeedUps::contact_graph()
         });
@@ -388,7 +388,7 @@ fn default_speedups_keep_the_users_warm_start_and_recycling() {
     let mut scene = scenes::ball_on_box();
     scene.world.integration_parameters.warmstart_coefficient = 0.8;
     let mut layer = layer_with(SpeedUps {
-        fixate: true,
+        hold: true,
         ..SpeedUps::default()
     });
     common::run_validated(&mut scene, &mut layer, 0, 5);

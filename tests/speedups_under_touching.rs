@@ -12,7 +12,6 @@ mod common;
 use common::{pose_bits, run_validated};
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes::sphere_pile;
 
@@ -73,7 +72,7 @@ fn run(bits: u8, tracking: Tracking) -> Vec<After> {
     let mut layer = ContactLayer::with_tracking(tracking);
     layer
         .speedups_mut()
-        .set(Some(SpeedUps::combination(bits)))
+        .set(Some(rcg_lab::table5::combination(bits)))
         .unwrap();
     (0..400)
         .map(|step| {

@@ -130,8 +130,8 @@ fn the_users_hooks_see_only_their_pairs_beside_rules_and_speedups() {
     layer.logic_mut().add_rule(rule).unwrap();
     // reduce and zero flag every dynamic collider for contact modification.
     let mut config = SpeedUps::default();
-    config.reduce = true;
-    config.zero = true;
+    config.deepest_contact_only = true;
+    config.no_restitution_at_rest = true;
     config.cache = true;
     layer.speedups_mut().set(Some(config)).unwrap();
     let user_filter: Vec<ColliderHandle> = colliders[..2].to_vec();

@@ -178,7 +178,7 @@ fn a_pile_with_the_presets_keeps_warm_start_and_is_held_or_asleep() {
         (
             "fixate on the defaults",
             SpeedUps {
-                fixate: true,
+                hold: true,
                 ..Default::default()
             },
         ),

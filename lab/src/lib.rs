@@ -13,6 +13,8 @@
 //!   paddle), judged on paired seeds against a reference without sleep;
 //! - [`stability`]: the stability suite, each scene of `rcg_scenes::stability` with
 //!   the switch it is built against, its control run and its reference;
+//! - [`table5`]: the paper's Table 5, its seven switches by their letters and words,
+//!   their 2^7 combinations and the labels (`C--ZDSF`);
 //! - [`cli`]: the runners as subcommands of the one binary, `rcg-lab` (clap,
 //!   indicatif, csv): `cargo lab diku`, `cargo lab disturb`, `cargo lab stability`,
 //!   `cargo lab frames`.
@@ -28,3 +30,4 @@ pub mod disturb;
 pub mod measure;
 pub mod report;
 pub mod stability;
+pub mod table5;

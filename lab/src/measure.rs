@@ -99,11 +99,11 @@ impl RunSpec {
         self.name.push_str(" +repair");
         self
     }
-    /// A combination of the seven switches (see [`SpeedUps::combination`]).
+    /// A combination of the seven switches (see [`combination`](crate::table5::combination)).
     pub fn combination(bits: u8) -> Self {
-        let s = SpeedUps::combination(bits);
+        let s = crate::table5::combination(bits);
         Self {
-            name: s.label(),
+            name: crate::table5::label(&s),
             mode: Mode::Layer(s),
             repair: false,
         }
@@ -287,6 +287,7 @@ pub fn deepest_penetration(scene: &Scene) -> f64 {
 
 /// Runs one configuration on a freshly built scene. Returns the result and the
 /// sampled trajectory.
+// Long: the step loop samples, times and judges in one pass over the steps (phases commented).
 pub fn run(
     spec: &RunSpec,
     mut scene: Scene,

@@ -31,53 +31,14 @@
 //! The measured table, with the reading of each row, is in `docs/results.md`
 //! ("Stability suite: where the speed-ups fail"); `cargo lab stability` prints it.
 //!
-//! # How a failure is attributed: target, control, base
-//! A scene "fails under" a target when the target's run shows the failure *and the same
-//! run without the target does not* ([`StabilityCase::target_spec`],
-//! [`StabilityCase::control_spec`], [`shows`]). Without the control a failure of the
-//! base configuration would be blamed on the switch: the 20-box tower falls in every
-//! configuration without warm start, so "the tower falls under tweak" (1 iteration, no
-//! warm start) says nothing about tweak. Such a scene gets a [`StabilityCase::base`]
-//! (the tower's is the cache switch), and its targets are measured on it.
-//!
-//! Rejected: judging a run by its deviation alone. The scenes are built to be
-//! sensitive, and some are chaotic (the seesaw throws a box; the bounce of a ball on a
-//! pile that was asleep differs from one on an awake pile by 9% in height), so the
-//! contact graph configuration itself sits 1–1.5 units from the reference in two of
-//! them.
-//!
-//! # The reference
-//! [`reference()`]: Rapier with contact recycling and warm start on, 16 iterations, no
-//! sleep. Not the DIKU run's reference ([`RunSpec::reference`], recycling and warm start
-//! off): that one drops the tower (see [`reference()`]).
-//!
-//! # Scripts find their bodies by tag
-//! A [`rcg_scenes::Script`] is a plain `fn(&mut PhysicsWorld, u64)`, so the scenes
-//! whose scripts remove, move or retarget something tag it in `user_data` and look it
-//! up by tag ([`rcg_scenes::stability::tagged_body`], [`rcg_scenes::stability::tagged_collider`]): O(bodies) per step, which is
-//! nothing at these sizes. Every script computes what it sets from the step index
-//! alone, so a replay from any step gives the same world. Rejected: a boxed closure
-//! capturing the handles. It would change `Scene` for every scene and user (no longer
-//! a plain value with a `fn` pointer), for the sake of five scripts.
-//!
-//! # What the monitor does not see yet
-//! One kind of hanging sleeper in the suite is not reported by the plugin's monitor
-//! (the suite's test for it is ignored, with the reasons): the spheres of
-//! `gravity_change` under stock Rapier and the contact graph: the hanging detector
-//! re-judges held bodies when gravity *changes*, but it records the gravity only once
-//! it is non-zero, so a switch from zero gravity (the bevy_rapier #570 case) is not
-//! seen as a change.
-//!
-//!
-//! And one false alarm: under `CTR---F` (cache, tweak, reduce, fixate) three boxes of
-//! `bounce_on_sleepers`' block, fixated while resting on the fixated bottom layer,
-//! lose their remembered support two steps later and are reported as hanging.
-//!
-//! Until the misses are fixed those failures are measured by the motion they cause.
-//!
-//! # Cost
-//! Every scene has at most 56 bodies and runs at most 600 steps; the whole table
-//! (14 scenes × 133 configurations plus controls) runs in about 20 s in release.
+//! A scene fails under a target when the target's run shows the failure and the same
+//! run without the target (its control) does not; a scene that fails without warm
+//! start gets a [`StabilityCase::base`] its targets are measured on. The reference is
+//! [`reference()`]. Attribution, the reference, the scripts' tags and what the monitor
+//! does not see yet: `docs/ARCHITECTURE.md` ("The stability suite").
+//!//! # Cost
+//! Every scene has at most 56 bodies and runs at most 600 steps; the whole table runs
+//! 14 scenes × 133 configurations plus controls.
 
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::RigidBodyHandle;
@@ -142,7 +103,7 @@ impl Target {
         }
     }
 
-    /// The bit of the switch in [`SpeedUps::combination`], for the seven switches.
+    /// The bit of the switch in [`combination`](crate::table5::combination), for the seven switches.
     pub const fn bit(self) -> Option<u8> {
         match self {
             Target::Cache => Some(0),
@@ -221,7 +182,7 @@ pub struct StabilityCase {
     pub measured: &'static [&'static str],
     /// What the scene was built against (the paper's case, or the bug report's).
     pub built_against: &'static [Target],
-    /// The combination switches (bits of [`SpeedUps::combination`]) the failures are
+    /// The combination switches (bits of [`combination`](crate::table5::combination)) the failures are
     /// measured on: a target's run is `base` plus the target, its control is `base`
     /// without it. 0 (the contact graph) unless the scene needs a switch to stand at all
     /// (the tower needs the cache: without warm start it falls whatever else is on).
@@ -271,9 +232,9 @@ impl StabilityCase {
             },
             (_, Some(b)) => RunSpec::combination(self.base & !(1 << b)),
             _ => {
-                let on = SpeedUps::combination(self.base);
+                let on = crate::table5::combination(self.base);
                 RunSpec {
-                    name: format!("{} no sleep", on.label()),
+                    name: format!("{} no sleep", crate::table5::label(&on)),
                     mode: Mode::Layer(SpeedUps {
                         groups: false,
                         sleepy: false,
@@ -552,12 +513,16 @@ mod tests {
         let incline = case("slow_incline").unwrap();
         assert_eq!(incline.target_spec(Target::Sleepy).name, "-------");
         match incline.control_spec(Target::Sleepy).mode {
-            Mode::Layer(s) => assert!(!s.sleepy && !s.groups && s.label() == "-------"),
+            Mode::Layer(s) => {
+                assert!(!s.sleepy && !s.groups && crate::table5::label(&s) == "-------")
+            }
             m => panic!("{m:?}"),
         }
         assert_eq!(incline.target_spec(Target::StockSleep), RunSpec::stock());
         match incline.control_spec(Target::StockSleep).mode {
-            Mode::Layer(s) => assert!(s.cache && !s.sleepy && s.label() == "C------"),
+            Mode::Layer(s) => {
+                assert!(s.cache && !s.sleepy && crate::table5::label(&s) == "C------")
+            }
             m => panic!("{m:?}"),
         }
         assert_eq!(Target::ALL.iter().filter(|t| t.bit().is_some()).count(), 7);

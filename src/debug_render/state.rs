@@ -14,7 +14,7 @@ pub enum BodyState {
     /// Disabled: by [`LayerLogicMut::set_body_disabled`](crate::LayerLogicMut::set_body_disabled) (the paper's *passive* body,
     /// §3.2) or in Rapier.
     Disabled,
-    /// Held: fixated by the `fixate` speed-up (Fig. 17's "fixed", green).
+    /// Held: fixated by the `hold` speed-up (Fig. 17's "fixed", green).
     Held,
     /// An insulator: a fixed or kinematic body, or a collider without a body. The solver
     /// does not move it.

@@ -38,8 +38,8 @@ impl SpeedUpsMut<'_> {
         match config {
             Some(c) => {
                 c.validate()?;
-                let was = self.layer.speedups().map(|s| s.config().subgroup);
-                if was.unwrap_or(false) != c.subgroup {
+                let was = self.layer.speedups().map(|s| s.config().insulate_sleepy);
+                if was.unwrap_or(false) != c.insulate_sleepy {
                     self.layer.regroup_all();
                 }
                 match &mut self.layer.speedups {
@@ -48,7 +48,11 @@ impl SpeedUpsMut<'_> {
                 }
             }
             None => {
-                if self.layer.speedups().is_some_and(|s| s.config().subgroup) {
+                if self
+                    .layer
+                    .speedups()
+                    .is_some_and(|s| s.config().insulate_sleepy)
+                {
                     self.layer.regroup_all();
                 }
                 if let Some(s) = &mut self.layer.speedups {

@@ -90,7 +90,7 @@ impl ContactLayer {
             let suspend = m.thinning_suspended();
             if let Some(s) = &mut self.speedups {
                 s.suspend_thinning = suspend;
-                if s.config().subgroup {
+                if s.config().insulate_sleepy {
                     // Woken bodies stop insulating: regroup them.
                     for n in woken {
                         self.groups.disturb(&mut self.graph, n);
@@ -224,7 +224,7 @@ impl ContactLayer {
             );
         }
         if let Some(s) = &self.speedups {
-            if s.config().subgroup {
+            if s.config().insulate_sleepy {
                 for &h in &s.sleepy_changed {
                     if let Some(n) = self.graph.node_of_body(h) {
                         self.groups.disturb(&mut self.graph, n);
@@ -375,6 +375,8 @@ pub(super) fn insulates(
     let Some(node) = g.node(n) else { return false };
     node.kind().is_insulator()
         || speedups.is_some_and(|s| {
-            !s.is_detached() && s.config().subgroup && node.body().is_some_and(|h| s.is_sleepy(h))
+            !s.is_detached()
+                && s.config().insulate_sleepy
+                && node.body().is_some_and(|h| s.is_sleepy(h))
         })
 }

@@ -1,11 +1,11 @@
 //! The physics hooks the layer gives Rapier: rules (pair filters) and the contact
-//! speed-ups (reduce, zero) — one object, because Rapier takes one.
+//! speed-ups (`deepest_contact_only`, `no_restitution_at_rest`) — one object, because Rapier takes one.
 //!
 //! Rapier calls a hook only for pairs where one collider carries the hook's
 //! `ActiveHooks` flag, and a flagged pair is never contact-recycled, so flags go only
 //! where a feature needs them: rule members' colliders for the filters, and for the
 //! contact modifications the colliders the speed-up concerns (all dynamic colliders
-//! for reduce; sleepy bodies' colliders for zero). Without rules and speed-ups no flag
+//! for `deepest_contact_only`; sleepy bodies' colliders for `no_restitution_at_rest`). Without rules and speed-ups no flag
 //! is set, the hooks are never called and results are bit-identical to `&()`.
 
 use rapier3d::pipeline::{
@@ -22,10 +22,10 @@ use crate::logic::RuleTable;
 pub struct ContactMods {
     /// Keep only the deepest solver contact of pairs penetrating deeper than this
     /// (metres); `None`: off.
-    pub reduce_depth: Option<f32>,
+    pub deepest_contact_depth: Option<f32>,
     /// Zero the restitution of pairs with a sleepy body.
-    pub zero: bool,
-    /// Sleepy bodies by handle index (with generation), for `zero`.
+    pub no_restitution_at_rest: bool,
+    /// Sleepy bodies by handle index (with generation), for `no_restitution_at_rest`.
     pub(crate) sleepy: Vec<Option<u32>>,
 }
 
@@ -146,10 +146,10 @@ impl PhysicsHooks for HooksView<'_> {
 
     fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
         let mods = &self.state.mods;
-        let zero = mods.zero
+        let zero = mods.no_restitution_at_rest
             && (ctx.rigid_body1.is_some_and(|h| mods.is_sleepy(h))
                 || ctx.rigid_body2.is_some_and(|h| mods.is_sleepy(h)));
-        let reduce = mods.reduce_depth;
+        let reduce = mods.deepest_contact_depth;
         let Some(m) = ctx.rigid_mut() else { return };
         if zero {
             *m.restitution = 0.0;

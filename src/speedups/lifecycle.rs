@@ -110,8 +110,8 @@ impl SpeedUpState {
             p.contact_recycling = recycling;
             p.warmstart_coefficient = warmstart;
         }
-        mods.reduce_depth = None;
-        mods.zero = false;
+        mods.deepest_contact_depth = None;
+        mods.no_restitution_at_rest = false;
         mods.sleepy.clear();
         self.rest.clear();
         self.eligibility.clear();

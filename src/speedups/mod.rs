@@ -10,14 +10,15 @@
 //!   bodies sleeps through Rapier's whole-island sleep (the group's bodies made
 //!   sleep-eligible, every other body never). O(awake bodies).
 //! - **cache**: Rapier's contact recycling and warm start, both on; off, both off. O(1).
-//! - **tweak**: `num_solver_iterations` = `tweak_iterations` instead of `iterations`.
-//!   O(1).
-//! - **reduce**, **zero**: `modify_solver_contacts` ([`crate::logic::hooks`]) flagged on
-//!   the colliders concerned only (dynamic ones; sleepy bodies' ones). O(flag changes).
-//! - **damp**: Rapier's linear damping on every dynamic body, the originals restored
+//! - **fewer_iterations**: `num_solver_iterations` = `fewer_iterations_count` instead
+//!   of `iterations`. O(1).
+//! - **deepest_contact_only**, **no_restitution_at_rest**: `modify_solver_contacts`
+//!   ([`crate::logic::hooks`]) flagged on the colliders concerned only (dynamic ones;
+//!   sleepy bodies' ones). O(flag changes).
+//! - **viscous_damping**: Rapier's linear damping on every dynamic body, the originals restored
 //!   when off. O(bodies) per configuration change.
-//! - **subgroup**: sleepy bodies insulate groups in the traversal. O(1) per edge.
-//! - **fixate**: a sleepy body is held (body type fixed); a held body with only fixed
+//! - **insulate_sleepy**: sleepy bodies insulate groups in the traversal. O(1) per edge.
+//! - **hold**: a sleepy body is held (body type fixed); a held body with only fixed
 //!   partners is parked out of Rapier's active set; what held it up is remembered and
 //!   judged again when it may be gone. It is released, type and velocities restored
 //!   exactly, before a moving body reaches it, with as much of its held group as the
@@ -29,7 +30,7 @@
 //! a full pass over the bodies only when the configuration or the body count changes.
 
 mod config;
-mod hold; // fixation: held records, fixate decisions, holds and releases applied
+mod hold; // fixation: held records, hold decisions, holds and releases applied
 mod lifecycle; // new, reconfigure, detach, and the restore of the user's world
 mod park; // held bodies taken out of Rapier's active set
 mod release; // what releases a held body, and how far a release reaches
@@ -143,11 +144,11 @@ pub struct SpeedUpState {
     /// [`Held::watched`]), sorted by node and pose: a change of any of them
     /// re-evaluates.
     support_watch: Vec<(NodeId, Option<Pose>, u32)>,
-    /// Tweak and reduce stand down (the monitor's repair of a deep penetration).
+    /// Fewer iterations and deepest contact only stand down (the monitor's repair of a deep penetration).
     pub(crate) suspend_thinning: bool,
     /// Colliders flagged for `modify_solver_contacts`, with their former flags.
     flagged: BTreeMap<(u32, u32), (ColliderHandle, ActiveHooks)>,
-    /// Bodies whose colliders need (true) or lose (false) the zero flag.
+    /// Bodies whose colliders need (true) or lose (false) the no-restitution flag.
     zero_flags: Vec<(RigidBodyHandle, bool)>,
     damped: BTreeMap<(u32, u32), (RigidBodyHandle, f32)>,
     stats: SpeedUpStats,

@@ -1,6 +1,6 @@
-//! The solver's side of the speed-ups: the iterations (tweak), contact recycling and
-//! warm start (cache) over the user's own parameters, linear damping (damp), and the
-//! `modify_solver_contacts` flags (reduce, zero); the configuration part of the
+//! The solver's side of the speed-ups: the iterations (`fewer_iterations`), contact recycling and
+//! warm start (cache) over the user's own parameters, linear damping (`viscous_damping`), and the
+//! `modify_solver_contacts` flags (`deepest_contact_only`, `no_restitution_at_rest`); the configuration part of the
 //! pre-step.
 
 use std::collections::BTreeMap;
@@ -78,7 +78,7 @@ impl SpeedUpState {
             ));
         }
         // The monitor's repair of a contact going deep: the solver at full strength
-        // for a while (no tweak, no reduce, warm start and recycling on, twice the
+        // for a while (no fewer iterations, no deepest-contact-only, warm start and recycling on, twice the
         // iterations).
         let thin = !self.suspend_thinning;
         // The user's own iterations: as recorded, or as the user set them since the
@@ -96,8 +96,8 @@ impl SpeedUpState {
         let base = c.iterations.unwrap_or(user_iterations);
         params.num_solver_iterations = if !thin {
             base.saturating_mul(2)
-        } else if c.tweak {
-            c.tweak_iterations
+        } else if c.fewer_iterations {
+            c.fewer_iterations_count
         } else {
             base
         };
@@ -122,12 +122,13 @@ impl SpeedUpState {
         params.contact_recycling = cache && recycling;
         params.warmstart_coefficient = if cache { warmstart } else { 0.0 };
         self.cache_written = Some((params.contact_recycling, params.warmstart_coefficient));
-        mods.reduce_depth = (c.reduce && thin).then_some(c.reduce_depth);
-        mods.zero = c.zero;
+        mods.deepest_contact_depth =
+            (c.deepest_contact_only && thin).then_some(c.deepest_contact_depth);
+        mods.no_restitution_at_rest = c.no_restitution_at_rest;
     }
 
     /// Applies the configuration to every body and collider when it or the body or
-    /// collider count changed (O(bodies + colliders)), else the zero flags of the
+    /// collider count changed (O(bodies + colliders)), else the no-restitution flags of the
     /// bodies whose sleepy state changed (O(their colliders)). Returns whether the
     /// counts changed.
     pub(super) fn apply_config_to_bodies(&mut self, world: &mut WorldMut, c: &SpeedUps) -> bool {
@@ -136,7 +137,8 @@ impl SpeedUpState {
         if self.dirty || counts_changed {
             let dynamic = self.configure_bodies(world, c);
             self.flag_bodies(world, c, &dynamic);
-        } else if c.zero && !c.reduce && !self.zero_flags.is_empty() {
+        } else if c.no_restitution_at_rest && !c.deepest_contact_only && !self.zero_flags.is_empty()
+        {
             self.flag_zero_changes(world);
         }
         self.zero_flags.clear();
@@ -167,7 +169,7 @@ impl SpeedUpState {
                 remember_activation(&mut self.activations, h, rb);
                 never_activation(rb.activation_mut());
             }
-            if c.damp {
+            if c.viscous_damping {
                 self.damped
                     .entry(key(h))
                     .or_insert((h, rb.linear_damping()));
@@ -176,7 +178,7 @@ impl SpeedUpState {
                 }
             }
         }
-        if !c.damp {
+        if !c.viscous_damping {
             self.undamp(world);
         }
         dynamic
@@ -191,17 +193,17 @@ impl SpeedUpState {
         }
     }
 
-    /// The contact-modification flag on the colliders of the `dynamic` bodies (reduce)
-    /// or of the sleepy ones (zero), off every other. O(their colliders · log).
+    /// The contact-modification flag on the colliders of the `dynamic` bodies (`deepest_contact_only`)
+    /// or of the sleepy ones (`no_restitution_at_rest`), off every other. O(their colliders · log).
     fn flag_bodies(&mut self, world: &mut WorldMut, c: &SpeedUps, dynamic: &[RigidBodyHandle]) {
         // Reduce: the contact-modification flag on every dynamic collider.
         let mut want: Vec<ColliderHandle> = Vec::new();
-        if c.reduce {
+        if c.deepest_contact_only {
             for &h in dynamic {
                 want.extend(world.bodies[h].colliders().iter().copied());
             }
         }
-        if c.zero {
+        if c.no_restitution_at_rest {
             for &h in dynamic {
                 if self.is_sleepy(h) {
                     want.extend(world.bodies[h].colliders().iter().copied());
@@ -214,7 +216,7 @@ impl SpeedUpState {
         self.zero_flags.clear();
     }
 
-    /// The zero flag on or off the colliders of the bodies whose sleepy state changed.
+    /// The no-restitution flag on or off the colliders of the bodies whose sleepy state changed.
     /// O(their colliders · log).
     fn flag_zero_changes(&mut self, world: &mut WorldMut) {
         for (h, on) in std::mem::take(&mut self.zero_flags) {

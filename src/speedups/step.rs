@@ -83,7 +83,7 @@ impl SpeedUpState {
             && !nodes_removed
             && groups.iter_awake().next().is_none()
         {
-            if self.config.fixate {
+            if self.config.hold {
                 let up = up_of(view.gravity);
                 self.decide_support(graph, view, up, changes);
             }
@@ -93,7 +93,7 @@ impl SpeedUpState {
         let mut want = c
             .sleepy
             .then(|| self.wanted_eligibility(graph, groups, refreshed, &c));
-        if c.fixate {
+        if c.hold {
             let up = up_of(view.gravity);
             self.decide_releases(graph, view, refreshed);
             let deferred = self.decide_fixations(graph, view, refreshed, up);

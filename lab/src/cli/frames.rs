@@ -83,6 +83,7 @@ pub fn parse_size(v: &str) -> Result<(u32, u32), String> {
 }
 
 /// Runs `rcg-lab frames`.
+// Long: a runner: arguments, steps, frames and files, in order.
 pub fn run(args: &Args) -> Result<(), String> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
@@ -91,10 +92,10 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut scene = rcg_scenes::stability::hanging_sleeper::hanging_sleeper();
 
     let speedups = SpeedUps {
-        fixate: true,
+        hold: true,
         ..SpeedUps::contact_graph()
     };
-    let label = speedups.label();
+    let label = crate::table5::label(&speedups);
     let mut layer = ContactLayer::new();
     layer
         .speedups_mut()

@@ -103,7 +103,13 @@ pub(crate) fn progress(total: usize) -> ProgressBar {
 pub(crate) fn switch_fields(spec: &RunSpec) -> [String; 7] {
     match &spec.mode {
         Mode::Layer(s) => [
-            s.cache, s.tweak, s.reduce, s.zero, s.damp, s.subgroup, s.fixate,
+            s.cache,
+            s.fewer_iterations,
+            s.deepest_contact_only,
+            s.no_restitution_at_rest,
+            s.viscous_damping,
+            s.insulate_sleepy,
+            s.hold,
         ]
         .map(|b| u8::from(b).to_string()),
         _ => std::array::from_fn(|_| String::new()),

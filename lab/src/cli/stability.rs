@@ -29,7 +29,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use rapier_contact_graph::monitor::{MonitorConfig, ViolationKind};
-use rapier_contact_graph::speedups::SpeedUps;
 
 use crate::measure::{self, Mode, RunOptions, RunResult, RunSpec};
 use crate::stability::{self, Failure, StabilityCase, Target};
@@ -152,7 +151,7 @@ pub fn parse_configs(list: &str) -> Result<Configs, String> {
                     "cg" => out.push(RunSpec::contact_graph()),
                     "stock" => out.push(RunSpec::stock()),
                     other => {
-                        let b = SpeedUps::combination_bits(other)
+                        let b = crate::table5::combination_bits(other)
                             .ok_or(format!("unknown configuration `{other}`"))?;
                         out.push(RunSpec::combination(b));
                     }
@@ -241,7 +240,7 @@ fn kind_name(spec: &RunSpec) -> &'static str {
         (_, "brute force") => "brute_force",
         (_, "contact graph") => "contact_graph",
         (Mode::Stock, _) => "stock",
-        (_, name) if SpeedUps::combination_bits(name).is_some() => "combination",
+        (_, name) if crate::table5::combination_bits(name).is_some() => "combination",
         _ => "control",
     }
 }
@@ -292,6 +291,7 @@ fn targets_of(case: &StabilityCase) -> Vec<Target> {
 }
 
 /// Runs `rcg-lab stability`.
+// Long: a runner: configurations, runs, judgement, table and CSV, in order.
 pub fn run(args: &Args) -> Result<(), String> {
     let (specs, cases) = (&args.configs.0, &args.scenes.0);
     let modes: &[MonitorMode] = if args.repair {
@@ -421,13 +421,15 @@ fn summary_table(per_case: &[(&StabilityCase, Vec<&RunResult>)]) {
             cell(by_name("contact graph")),
         );
         for t in &singles {
-            let name = t.bit().map(|b| SpeedUps::combination(1 << b).label());
+            let name = t
+                .bit()
+                .map(|b| crate::table5::label(&crate::table5::combination(1 << b)));
             line += &format!(" {} |", cell(name.and_then(|n| by_name(&n))));
         }
         let combos: Vec<&RunResult> = rows
             .iter()
             .copied()
-            .filter(|r| SpeedUps::combination_bits(&r.name).is_some())
+            .filter(|r| crate::table5::combination_bits(&r.name).is_some())
             .collect();
         let worst = combos.iter().copied().max_by(|a, b| {
             a.violations

@@ -4,7 +4,6 @@
 
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::rapier3d::prelude::*;
-use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{Category, Error, Filter, NodeId, NodeKind, Rule};
 
 use super::ops::{kinds_of, pick, pick_mask, raw};
@@ -250,7 +249,7 @@ impl Harness {
                 }
                 self.layer
                     .speedups_mut()
-                    .set(bits.map(SpeedUps::combination))
+                    .set(bits.map(rcg_lab::table5::combination))
                     .map_err(|e| format!("set_speedups: {e}"))?;
             }
             Op::Monitor(on) => {

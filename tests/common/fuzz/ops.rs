@@ -199,7 +199,7 @@ pub enum Op {
     },
     Unsubscribe(u8),
     DropReceiver(u8),
-    /// `set_speedups(Some(SpeedUps::combination(bits % 128)))`, or `None`.
+    /// `set_speedups(Some(rcg_lab::table5::combination(bits % 128)))`, or `None`.
     SpeedUps(Option<u8>),
     /// `set_tracking`: touching tracking (Rapier's events) or proximity tracking.
     Touching(bool),

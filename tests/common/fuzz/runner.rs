@@ -198,7 +198,7 @@ pub fn property(config: Config) {
     if config.observe_only() {
         assert!(t.twin_steps > 0, "no step compared with the twin");
     }
-    if config.speedups().is_some_and(|s| s.fixate) {
+    if config.speedups().is_some_and(|s| s.hold) {
         assert!(t.held_seen > 0, "no body held");
     }
 }

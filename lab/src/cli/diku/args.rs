@@ -3,8 +3,6 @@
 
 use std::path::PathBuf;
 
-use rapier_contact_graph::speedups::SpeedUps;
-
 use crate::measure::{Mode, RunSpec};
 use crate::report::PointKind;
 
@@ -105,7 +103,7 @@ pub fn parse_configs(list: &str) -> Result<Configs, String> {
                             Some(l) => (l, true),
                             None => (other, false),
                         };
-                        let b = SpeedUps::combination_bits(label)
+                        let b = crate::table5::combination_bits(label)
                             .ok_or(format!("unknown configuration `{other}`"))?;
                         let spec = RunSpec::combination(b);
                         out.push(if repair { spec.with_repair() } else { spec });
@@ -140,7 +138,7 @@ pub(super) fn is_named(spec: &RunSpec) -> bool {
                 && NAMED_COMBINATIONS
                     .iter()
                     .chain([&FIXATE_ALONE])
-                    .any(|&b| SpeedUps::combination(b) == *s)
+                    .any(|&b| crate::table5::combination(b) == *s)
         }
         _ => false,
     };

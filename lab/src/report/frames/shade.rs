@@ -12,16 +12,14 @@
 //!    violations and the held bodies it is timing as unsupported). First, so that a
 //!    fixated body left hanging in the air — the paper's hanging sleeper — shows as a
 //!    violation and not as fixed geometry.
-//! 2. **Fixed**: a fixed or kinematic body in Rapier, or one held by the `fixate`
+//! 2. **Fixed**: a fixed or kinematic body in Rapier, or one held by the `hold`
 //!    speed-up (which makes it fixed in Rapier too).
 //! 3. **Sleepy**: sleepy for the speed-ups, or asleep in Rapier.
 //! 4. **At rest** ("absolute rest" in the paper): linear speed and angular speed both
 //!    at most [`Classifier::rest_speed`] (default [`DEFAULT_REST_SPEED`]). Exactly zero
-//!    would rarely hold while Rapier keeps a body awake: measured over steps 100–400 of
-//!    the three-sphere stack with sleeping off, the upper spheres kept a residual speed
-//!    of 3·10⁻⁵ to 6·10⁻⁵ m/s (gravity against the soft contacts), a box on the ground
-//!    10⁻⁶ m/s and 3·10⁻⁶ rad/s. The default, 10⁻³, sits well above that noise and far
-//!    below visible motion (0.01 mm per step at dt = 0.01).
+//!    would rarely hold while Rapier keeps a body awake (gravity against the soft
+//!    contacts leaves a residual speed); the default sits well above that noise and
+//!    far below visible motion.
 //! 5. **Moving**: everything else, non-finite velocities included.
 //!
 //! Rejected: sorting the violating list to binary-search it. It holds the few bodies
@@ -300,7 +298,7 @@ mod tests {
         layer
             .speedups_mut()
             .set(Some(SpeedUps {
-                fixate: true,
+                hold: true,
                 ..SpeedUps::contact_graph()
             }))
             .unwrap();
