@@ -36,7 +36,8 @@
 //! start gets a [`StabilityCase::base`] its targets are measured on. The reference is
 //! [`reference()`]. Attribution, the reference, the scripts' tags and what the monitor
 //! does not see yet: `docs/ARCHITECTURE.md` ("The stability suite").
-//!//! # Cost
+//!
+//! # Cost
 //! Every scene has at most 56 bodies and runs at most 600 steps; the whole table runs
 //! 14 scenes × 133 configurations plus controls.
 

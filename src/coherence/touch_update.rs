@@ -136,7 +136,6 @@ impl Coherence {
     /// Reads the touching pairs of the given colliders (flagged late) or, with `all`,
     /// of the whole narrow phase, and sets the physical edges to them. O(their pairs),
     /// or O(pairs + edges) with `all`.
-    // Long: the counting closure shares its tallies across the two ways of reading pairs.
     pub(super) fn rescan_touching(
         &mut self,
         graph: &mut ContactGraph,
@@ -146,104 +145,14 @@ impl Coherence {
         colliders: &[ColliderHandle],
         all: bool,
     ) {
-        let step = self.step;
-        let mut counts: BTreeMap<EdgeId, u32> = BTreeMap::new();
-        // Per edge counted: the touching pair to name (`Edge::colliders`): the one
-        // named already if it touches, else the one with the smallest handles.
-        let mut names: BTreeMap<EdgeId, [ColliderHandle; 2]> = BTreeMap::new();
-        // The collider pairs that sent `Started` this step; a touching pair counted
-        // here without one may have begun before its colliders were flagged.
-        let key = |a: ColliderHandle, b: ColliderHandle| {
-            let (a, b) = (a.into_raw_parts(), b.into_raw_parts());
-            (a.min(b), a.max(b))
-        };
-        let started: std::collections::HashSet<_> = events
-            .iter()
-            .filter(|e| e.started)
-            .map(|e| key(e.c1, e.c2))
-            .collect();
-        let mut pre_flag: Vec<NodeId> = Vec::new();
-        // A pair between two rescanned nodes is met from both: counted once.
-        let mut seen: std::collections::BTreeSet<((u32, u32), (u32, u32))> = Default::default();
-        let mut visit = |this: &mut Self, graph: &mut ContactGraph, pair: &ContactPair| {
-            if !all
-                && !seen.insert((
-                    pair.collider1.into_raw_parts(),
-                    pair.collider2.into_raw_parts(),
-                ))
-            {
-                return;
-            }
-            let (Some(n1), Some(n2)) = (
-                this.owner_of(graph, view, pair.collider1),
-                this.owner_of(graph, view, pair.collider2),
-            ) else {
-                return;
-            };
-            if n1 == n2 || !screen.admits_contact(graph, view, (n1, n2), pair) {
-                return;
-            }
-            if pair.has_any_active_contact() {
-                if let Some(e) = pairs::physical_edge_for(graph, n1, n2, step) {
-                    *counts.entry(e).or_insert(0) += 1;
-                    if let Some(edge) = graph.edge(e) {
-                        let named = if edge.a == n1 {
-                            [pair.collider1, pair.collider2]
-                        } else {
-                            [pair.collider2, pair.collider1]
-                        };
-                        names
-                            .entry(e)
-                            .and_modify(|n| {
-                                if edge.prefers_name(named, *n) {
-                                    *n = named;
-                                }
-                            })
-                            .or_insert(named);
-                    }
-                }
-                if !started.contains(&key(pair.collider1, pair.collider2)) {
-                    pre_flag.extend([n1, n2]);
-                }
-            }
-        };
-        // The nodes whose every pair is read (the owners of the late colliders), so
-        // that their edges are counted in full.
-        let mut nodes: Vec<NodeId> = Vec::new();
-        if all {
-            for pair in view.narrow_phase.contact_pairs() {
-                visit(self, graph, pair);
-            }
-        } else {
-            for &c in colliders {
-                if let Some(n) = self.owner_of(graph, view, c) {
-                    nodes.push(n);
-                }
-            }
-            // Owners of colliders changed in place; a lookup below may find more
-            // (a cached owner that no longer owns its collider): read those too.
-            let mut own = Vec::new();
-            let mut next = std::mem::take(&mut self.stale);
-            next.append(&mut nodes);
-            while !next.is_empty() {
-                next.sort_unstable();
-                next.dedup();
-                next.retain(|n| nodes.binary_search(n).is_err());
-                for &n in &next {
-                    if !colliders_of(graph, view, n, &mut own) {
-                        continue;
-                    }
-                    for &c in &own {
-                        for pair in view.narrow_phase.contact_pairs_with(c) {
-                            visit(self, graph, pair);
-                        }
-                    }
-                }
-                nodes.append(&mut next);
-                nodes.sort_unstable();
-                next = std::mem::take(&mut self.stale);
-            }
-        }
+        let mut tally = TouchTally::new(events, all);
+        let nodes = self.read_touching(graph, view, screen, colliders, &mut tally);
+        let TouchTally {
+            counts,
+            names,
+            pre_flag,
+            ..
+        } = tally;
         let targets = touch_targets(graph, &nodes, &counts, all);
         let mut changed = Vec::new();
         // Edges this step's events changed already: settled again with the count read
@@ -263,6 +172,56 @@ impl Coherence {
             self.touched
                 .retain(|&e| graph.edge(e).is_some() && seen.insert(e));
         }
+    }
+
+    /// Reads the touching pairs into `tally`: every pair of the narrow phase with
+    /// `tally.all`, else every pair of the owners of `colliders` and of the nodes whose
+    /// colliders changed in place (and of any found so on the way), whose edges are then
+    /// counted in full. Returns those nodes, sorted (none with `all`).
+    fn read_touching(
+        &mut self,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        colliders: &[ColliderHandle],
+        tally: &mut TouchTally,
+    ) -> Vec<NodeId> {
+        let mut nodes: Vec<NodeId> = Vec::new();
+        if tally.all {
+            for pair in view.narrow_phase.contact_pairs() {
+                tally.visit(self, graph, view, screen, pair);
+            }
+            return nodes;
+        }
+        for &c in colliders {
+            if let Some(n) = self.owner_of(graph, view, c) {
+                nodes.push(n);
+            }
+        }
+        // Owners of colliders changed in place; a lookup below may find more
+        // (a cached owner that no longer owns its collider): read those too.
+        let mut own = Vec::new();
+        let mut next = std::mem::take(&mut self.stale);
+        next.append(&mut nodes);
+        while !next.is_empty() {
+            next.sort_unstable();
+            next.dedup();
+            next.retain(|n| nodes.binary_search(n).is_err());
+            for &n in &next {
+                if !colliders_of(graph, view, n, &mut own) {
+                    continue;
+                }
+                for &c in &own {
+                    for pair in view.narrow_phase.contact_pairs_with(c) {
+                        tally.visit(self, graph, view, screen, pair);
+                    }
+                }
+            }
+            nodes.append(&mut next);
+            nodes.sort_unstable();
+            next = std::mem::take(&mut self.stale);
+        }
+        nodes
     }
 
     /// Sets each target edge's count of touching collider pairs to the one read, and
@@ -431,6 +390,103 @@ fn mark_pre_flag(graph: &mut ContactGraph, view: &WorldView, mut pre_flag: Vec<N
         if let (Some(sig), Some(node)) = (sig, graph.node_mut(n)) {
             node.pre_flag_touch = true;
             node.disabled_sig = sig;
+        }
+    }
+}
+
+/// A collider pair by raw handles, smaller first.
+type RawPair = ((u32, u32), (u32, u32));
+
+/// The collider pair `(a, b)` as a [`RawPair`], either order.
+fn raw_pair(a: ColliderHandle, b: ColliderHandle) -> RawPair {
+    let (a, b) = (a.into_raw_parts(), b.into_raw_parts());
+    (a.min(b), a.max(b))
+}
+
+/// What a rescan counted: per physical edge, its touching collider pairs and the pair
+/// it is to name (`Edge::colliders`: the one named already if it touches, else the one
+/// with the smallest handles), and the nodes holding a touching pair that may have
+/// begun before its colliders were flagged.
+struct TouchTally {
+    all: bool,
+    /// The collider pairs that sent `Started` this step.
+    started: std::collections::HashSet<RawPair>,
+    /// Pairs met already: a pair between two rescanned nodes is met from both.
+    seen: std::collections::BTreeSet<RawPair>,
+    counts: BTreeMap<EdgeId, u32>,
+    names: BTreeMap<EdgeId, [ColliderHandle; 2]>,
+    pre_flag: Vec<NodeId>,
+}
+
+impl TouchTally {
+    fn new(events: &[TouchEvent], all: bool) -> Self {
+        Self {
+            all,
+            started: events
+                .iter()
+                .filter(|e| e.started)
+                .map(|e| raw_pair(e.c1, e.c2))
+                .collect(),
+            seen: Default::default(),
+            counts: BTreeMap::new(),
+            names: BTreeMap::new(),
+            pre_flag: Vec::new(),
+        }
+    }
+
+    /// Counts one narrow-phase pair if it touches, is admitted and was not met yet
+    /// (each pair once unless `all`, which meets each once anyway).
+    fn visit(
+        &mut self,
+        this: &mut Coherence,
+        graph: &mut ContactGraph,
+        view: &WorldView,
+        screen: &Screen,
+        pair: &ContactPair,
+    ) {
+        if !self.all
+            && !self.seen.insert((
+                pair.collider1.into_raw_parts(),
+                pair.collider2.into_raw_parts(),
+            ))
+        {
+            return;
+        }
+        let (Some(n1), Some(n2)) = (
+            this.owner_of(graph, view, pair.collider1),
+            this.owner_of(graph, view, pair.collider2),
+        ) else {
+            return;
+        };
+        if n1 == n2 || !screen.admits_contact(graph, view, (n1, n2), pair) {
+            return;
+        }
+        if !pair.has_any_active_contact() {
+            return;
+        }
+        if let Some(e) = pairs::physical_edge_for(graph, n1, n2, this.step) {
+            *self.counts.entry(e).or_insert(0) += 1;
+            if let Some(edge) = graph.edge(e) {
+                let named = if edge.a == n1 {
+                    [pair.collider1, pair.collider2]
+                } else {
+                    [pair.collider2, pair.collider1]
+                };
+                self.names
+                    .entry(e)
+                    .and_modify(|n| {
+                        if edge.prefers_name(named, *n) {
+                            *n = named;
+                        }
+                    })
+                    .or_insert(named);
+            }
+        }
+        if !self
+            .started
+            .contains(&raw_pair(pair.collider1, pair.collider2))
+        {
+            self.pre_flag.extend([n1, n2]);
         }
     }
 }

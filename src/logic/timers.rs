@@ -14,7 +14,7 @@
 use crate::graph::NodeId;
 
 /// The most ticks of one timer reported in one step.
-pub const MAX_TICKS_PER_STEP: u64 = 10_000;
+pub(crate) const MAX_TICKS_PER_STEP: u64 = 10_000;
 
 #[derive(Clone, Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

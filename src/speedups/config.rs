@@ -181,11 +181,6 @@ impl SpeedUps {
         }
     }
 
-    /// Whether any switch needs the `modify_solver_contacts` hook.
-    pub fn modifies_contacts(&self) -> bool {
-        self.deepest_contact_only || self.no_restitution_at_rest
-    }
-
     /// Checks the parameters: finite, and in range. Called by the layer when the
     /// configuration is set.
     pub fn validate(&self) -> Result<()> {

@@ -98,20 +98,11 @@ pub(crate) fn progress(total: usize) -> ProgressBar {
     bar
 }
 
-/// The seven switches of a layered configuration as `0`/`1` CSV fields, empty for a
+/// The seven switches of a layered configuration (Table 5's order) as `0`/`1` CSV fields, empty for a
 /// plain Rapier run.
 pub(crate) fn switch_fields(spec: &RunSpec) -> [String; 7] {
     match &spec.mode {
-        Mode::Layer(s) => [
-            s.cache,
-            s.fewer_iterations,
-            s.deepest_contact_only,
-            s.no_restitution_at_rest,
-            s.viscous_damping,
-            s.insulate_sleepy,
-            s.hold,
-        ]
-        .map(|b| u8::from(b).to_string()),
+        Mode::Layer(s) => crate::table5::switches(s).map(|b| u8::from(b).to_string()),
         _ => std::array::from_fn(|_| String::new()),
     }
 }

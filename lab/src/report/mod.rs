@@ -17,7 +17,8 @@
 //! tiny-skia rasterises the frames' lines. Deterministic (same input, same bytes) and
 //! forgiving (non-finite points left out and counted; nothing panics on data). Choices
 //! and rejected libraries: `docs/ARCHITECTURE.md` ("Charts").
-//!//! ```
+//!
+//! ```
 //! use rcg_lab::report::{self, ChartPoint, ChartSpec, PointKind};
 //!
 //! let points = vec![
