@@ -382,7 +382,7 @@ fn groups_do_not_change_motion() {
 /// The default speed-ups never turn off a Rapier feature the user had on: warm start
 /// and contact recycling stay as the user set them (a user's 0.8 warm start stays
 /// 0.8), and come back as the user set them when the speed-ups are switched off.
-/// Before, `SpeedUps { fixate: true, ..Default::default() }` turned warm start off.
+/// Before, `SpeedUps { hold: true, ..Default::default() }` turned warm start off.
 #[test]
 fn default_speedups_keep_the_users_warm_start_and_recycling() {
     let mut scene = scenes::ball_on_box();

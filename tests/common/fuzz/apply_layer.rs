@@ -250,7 +250,7 @@ impl Harness {
                 self.layer
                     .speedups_mut()
                     .set(bits.map(rcg_lab::table5::combination))
-                    .map_err(|e| format!("set_speedups: {e}"))?;
+                    .map_err(|e| format!("speedups_mut().set: {e}"))?;
             }
             Op::Monitor(on) => {
                 let mode = if on {
@@ -261,13 +261,13 @@ impl Harness {
                 self.layer
                     .monitor_mut()
                     .set(mode, MonitorConfig::default(), RepairConfig::default())
-                    .map_err(|e| format!("set_monitor: {e}"))?;
+                    .map_err(|e| format!("monitor_mut().set: {e}"))?;
             }
             Op::Preset => {
                 self.layer
                     .speedups_mut()
                     .set(self.config.speedups())
-                    .map_err(|e| format!("set_speedups: {e}"))?;
+                    .map_err(|e| format!("speedups_mut().set: {e}"))?;
             }
             Op::User(who, call) => self.user_call(who, call)?,
             Op::Unseen(n) => {

@@ -199,7 +199,7 @@ pub enum Op {
     },
     Unsubscribe(u8),
     DropReceiver(u8),
-    /// `set_speedups(Some(rcg_lab::table5::combination(bits % 128)))`, or `None`.
+    /// `speedups_mut().set(Some(rcg_lab::table5::combination(bits % 128)))`, or `None`.
     SpeedUps(Option<u8>),
     /// `set_tracking`: touching tracking (Rapier's events) or proximity tracking.
     Touching(bool),
@@ -214,8 +214,8 @@ pub enum Op {
     Second(Second),
     /// The monitor repairing (`MonitorMode::Repair`, default thresholds) or off.
     Monitor(bool),
-    /// The configuration's preset speed-ups again (`set_speedups(Some(preset))`); in
-    /// a configuration without speed-ups, `set_speedups(None)`.
+    /// The configuration's preset speed-ups again (`speedups_mut().set(Some(preset))`); in
+    /// a configuration without speed-ups, `speedups_mut().set(None)`.
     Preset,
 }
 
