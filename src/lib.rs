@@ -105,6 +105,30 @@
 //! | `RigidBody::set_enabled(false)` (a disabled body) | [`ContactLayer::set_body_disabled`] (guarded against Rapier's panics), [`Node::is_body_disabled`] |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
 //!
+//! # Rapier's features
+//! Rapier's optional features are the user's choice; the crate builds and keeps its
+//! promises with each (CI builds it with all four and runs the determinism and
+//! bit-identity tests under `parallel` and `enhanced-determinism`):
+//! - `parallel`, this crate's feature of the same name: turns on `rapier3d/parallel`
+//!   (Rapier's step on rayon's threads). The layer's hooks and event handler are
+//!   `Send + Sync` and are called from Rapier's workers; Rapier hands the collision
+//!   events over in its own sorted order, so the graph, the groups and the event
+//!   stream are the same as single-threaded, event for event, and observing still
+//!   changes no bit of Rapier's results. The analysis runs on the calling thread; its
+//!   per-body read of Rapier's active set goes to rayon's threads in large worlds.
+//! - `enhanced-determinism` (turn it on for `rapier3d` in your own `Cargo.toml`;
+//!   cargo's feature unification gives it to the crate's Rapier too): Rapier's
+//!   cross-platform determinism. The layer uses no transcendental function and no
+//!   unordered iteration, so its graph and events are as reproducible as Rapier's
+//!   poses.
+//! - `simd8` (also on `rapier3d`): wider SIMD in Rapier; nothing changes for the
+//!   layer.
+//! - `unsync-callbacks` (also on `rapier3d`, with `parallel`): Rapier calls hooks and
+//!   event handlers from one thread; the layer's work the same either way.
+//!
+//! Rapier's trajectories differ between these builds (another SIMD width, another
+//! libm); within one build, the layer's are Rapier's own.
+//!
 //! # The paper's terms
 //! The crate names what Rapier has a name for as Rapier does; the paper's terms stay in
 //! the docs where they explain the paper (and as the one-letter codes of text dumps).
