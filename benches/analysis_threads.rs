@@ -3,7 +3,8 @@
 //! feature (without it both worlds run the same serial code: a control).
 //!
 //! Two identical worlds of the sphere pile, each with an observe-only layer
-//! subscribed to every event kind, are stepped in lockstep, the order alternating
+//! subscribed to the contact events (`--events all`: every kind, so proximity
+//! tracking), are stepped in lockstep, the order alternating
 //! every step: in one the analysis may put its passes on rayon's threads, in the
 //! other it may not (`rapier_contact_graph::coherence::set_parallel_reads`, switched
 //! before each world's step). Each part of the step is timed in wall-clock time: the
@@ -20,7 +21,7 @@ use std::time::Instant;
 use clap::Parser;
 use rapier3d::prelude::PhysicsWorld;
 use rapier_contact_graph::coherence::set_parallel_reads;
-use rapier_contact_graph::events::{Event, Filter};
+use rapier_contact_graph::events::{Event, Filter, KindSet};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Receiver, WorldMut, WorldView};
 use rcg_scenes as scenes;
@@ -42,6 +43,10 @@ struct Args {
     /// The layers' speed-ups: observe (none) or reliable (`SpeedUps::reliable_sleep()`).
     #[arg(long, default_value = "observe")]
     preset: String,
+    /// Subscriptions: contact (starts and stops, touching tracking) or all (every
+    /// kind: proximity tracking, every awake pair read).
+    #[arg(long, default_value = "contact")]
+    events: String,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -58,14 +63,18 @@ struct World {
 }
 
 impl World {
-    fn new(n: usize, parallel: bool, preset: &str) -> Self {
+    fn new(n: usize, parallel: bool, preset: &str, events: &str) -> Self {
         let mut layer = ContactLayer::new();
         if preset == "reliable" {
             layer
                 .set_speedups(Some(SpeedUps::reliable_sleep()))
                 .expect("the preset is valid");
         }
-        let rx = layer.subscribe(Filter::all());
+        let rx = layer.subscribe(if events == "all" {
+            Filter::all()
+        } else {
+            Filter::kinds(KindSet::COLLISION_EVENTS)
+        });
         Self {
             world: scenes::sphere_pile(n, SEED).world,
             layer,
@@ -106,8 +115,8 @@ fn poses(w: &PhysicsWorld) -> Vec<u32> {
 
 /// (parallel layer / serial layer, parallel layer / its Rapier, serial / its Rapier)
 fn run(n: usize, args: &Args) -> (f64, f64, f64) {
-    let mut s = World::new(n, false, &args.preset);
-    let mut p = World::new(n, true, &args.preset);
+    let mut s = World::new(n, false, &args.preset, &args.events);
+    let mut p = World::new(n, true, &args.preset, &args.events);
     for i in 0..args.steps {
         if i % 2 == 0 {
             s.step();
@@ -148,10 +157,11 @@ fn main() {
     }
     println!(
         "the layer's work with its passes on rayon's threads / in order, {} steps, preset {}, \
-         {} run(s) each (min / median / max), wall clock, parallel feature: {}",
+         {} run(s) each (min / median / max), wall clock, events {}, parallel feature: {}",
         args.steps,
         args.preset,
         args.repeats,
+        args.events,
         cfg!(feature = "parallel")
     );
     println!(
