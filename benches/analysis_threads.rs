@@ -6,7 +6,7 @@
 //! subscribed to the contact events (`--events all`: every kind, so proximity
 //! tracking), are stepped in lockstep, the order alternating
 //! every step: in one the analysis may put its passes on rayon's threads, in the
-//! other it may not (`rapier_contact_graph::coherence::set_parallel_reads`, switched
+//! other it may not (`rapier_contact_graph::coherence::set_parallel_analysis`, switched
 //! before each world's step). Each part of the step is timed in wall-clock time: the
 //! layer's own work (pre-step and analysis) is reported against the other world's, and
 //! against Rapier's step. Checked every step: the event streams are the same, event
@@ -14,14 +14,16 @@
 //!
 //! ```text
 //! cargo bench --bench analysis_threads --features parallel -- 5000 --repeats 5
+//! cargo bench --bench analysis_threads --features parallel -- 5000 --monitor --preset reliable
 //! ```
 
 use std::time::Instant;
 
 use clap::Parser;
 use rapier3d::prelude::PhysicsWorld;
-use rapier_contact_graph::coherence::set_parallel_reads;
+use rapier_contact_graph::coherence::set_parallel_analysis;
 use rapier_contact_graph::events::{Event, Filter, KindSet};
+use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, Receiver, WorldMut, WorldView};
 use rcg_scenes as scenes;
@@ -43,6 +45,9 @@ struct Args {
     /// The layers' speed-ups: observe (none) or reliable (`SpeedUps::reliable_sleep()`).
     #[arg(long, default_value = "observe")]
     preset: String,
+    /// The repair monitor on both layers.
+    #[arg(long)]
+    monitor: bool,
     /// Subscriptions: contact (starts and stops, touching tracking) or all (every
     /// kind: proximity tracking, every awake pair read).
     #[arg(long, default_value = "contact")]
@@ -63,12 +68,22 @@ struct World {
 }
 
 impl World {
-    fn new(n: usize, parallel: bool, preset: &str, events: &str) -> Self {
+    fn new(n: usize, parallel: bool, args: &Args) -> Self {
+        let (preset, events) = (args.preset.as_str(), args.events.as_str());
         let mut layer = ContactLayer::new();
         if preset == "reliable" {
             layer
                 .set_speedups(Some(SpeedUps::reliable_sleep()))
                 .expect("the preset is valid");
+        }
+        if args.monitor {
+            layer
+                .set_monitor(
+                    MonitorMode::Repair,
+                    MonitorConfig::default(),
+                    RepairConfig::default(),
+                )
+                .expect("valid monitor");
         }
         let rx = layer.subscribe(if events == "all" {
             Filter::all()
@@ -87,7 +102,7 @@ impl World {
     }
 
     fn step(&mut self) {
-        set_parallel_reads(self.parallel);
+        set_parallel_analysis(self.parallel);
         let t = Instant::now();
         self.layer.pre_step(WorldMut::from(&mut self.world));
         let pre = t.elapsed().as_secs_f64();
@@ -115,8 +130,8 @@ fn poses(w: &PhysicsWorld) -> Vec<u32> {
 
 /// (parallel layer / serial layer, parallel layer / its Rapier, serial / its Rapier)
 fn run(n: usize, args: &Args) -> (f64, f64, f64) {
-    let mut s = World::new(n, false, &args.preset, &args.events);
-    let mut p = World::new(n, true, &args.preset, &args.events);
+    let mut s = World::new(n, false, args);
+    let mut p = World::new(n, true, args);
     for i in 0..args.steps {
         if i % 2 == 0 {
             s.step();
@@ -130,7 +145,7 @@ fn run(n: usize, args: &Args) -> (f64, f64, f64) {
             std::process::exit(1);
         }
     }
-    set_parallel_reads(true);
+    set_parallel_analysis(true);
     if poses(&s.world) != poses(&p.world) {
         eprintln!("analysis_threads: the poses differ");
         std::process::exit(1);
@@ -157,11 +172,12 @@ fn main() {
     }
     println!(
         "the layer's work with its passes on rayon's threads / in order, {} steps, preset {}, \
-         {} run(s) each (min / median / max), wall clock, events {}, parallel feature: {}",
+         {} run(s) each (min / median / max), wall clock, events {}{}, parallel feature: {}",
         args.steps,
         args.preset,
         args.repeats,
         args.events,
+        if args.monitor { ", repair monitor" } else { "" },
         cfg!(feature = "parallel")
     );
     println!(

@@ -61,7 +61,7 @@ mod verify;
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
 #[doc(hidden)]
-pub use par::set_parallel_reads;
+pub use par::set_parallel_analysis;
 pub(crate) use touch_feed::TouchEvent;
 pub use touch_feed::{TouchFeed, Tracking};
 pub use user_events::{UserEventFilter, WithUser};
@@ -117,9 +117,6 @@ pub struct Coherence {
     /// order, found when they joined it (their body is then at hand).
     #[cfg_attr(feature = "serde", serde(skip))]
     walk_sensors: Vec<(NodeId, ColliderHandle)>,
-    /// Scratch: Rapier's active bodies with what the walk reads of them (`par.rs`).
-    #[cfg_attr(feature = "serde", serde(skip))]
-    active_reads: Vec<(RigidBodyHandle, Option<par::BodyRead>)>,
     touched: Vec<EdgeId>,
     removed_edges: Vec<Edge>,
     removed_nodes: Vec<RemovedNode>,

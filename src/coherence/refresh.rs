@@ -54,26 +54,13 @@ impl Coherence {
         h: RigidBodyHandle,
         awake: bool,
     ) {
-        let read = view.bodies.get(h).map(|rb| par::BodyRead::of(view, rb));
-        self.mark_refreshed_with(graph, view, id, h, awake, read);
-    }
-
-    /// [`Self::mark_refreshed`] with the body's state read already (`None`: not in
-    /// the body set).
-    pub(super) fn mark_refreshed_with(
-        &mut self,
-        graph: &mut ContactGraph,
-        view: &WorldView,
-        id: NodeId,
-        h: RigidBodyHandle,
-        awake: bool,
-        read: Option<par::BodyRead>,
-    ) {
         let step = self.step;
         let rb = view.bodies.get(h);
-        let finite = read.is_some_and(|r| r.finite);
-        let passive = self.is_passive(read.is_some_and(|r| r.enabled), h);
-        let sig = read.map_or(0, |r| r.sig);
+        let finite = rb.is_some_and(|rb| {
+            rb.position().translation.is_finite() && rb.position().rotation.is_finite()
+        });
+        let passive = self.is_passive(rb.is_some_and(|rb| rb.is_enabled()), h);
+        let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
         let resigned = graph
             .node(id)
             .is_some_and(|n| n.seen_step != step && n.collider_sig != 0 && n.collider_sig != sig);
@@ -129,7 +116,7 @@ impl Coherence {
                     Some(_) => n.reported_awake = Some(n.awake),
                 }
             }
-            if let Some(rb) = rb.filter(|_| read.is_some_and(|r| r.sensor)) {
+            if let Some(rb) = rb {
                 self.walk_sensors
                     .extend(sensors_of(view, rb).map(|c| (id, c)));
             }

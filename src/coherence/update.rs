@@ -224,10 +224,8 @@ impl Coherence {
         requested: bool,
         resized: &[NodeId],
     ) {
-        let mut reads = std::mem::take(&mut self.active_reads);
-        par::read_active(view, &mut reads);
-        for &(h, read) in &reads {
-            let fixed = read.is_some_and(|r| r.fixed);
+        for h in view.islands.active_bodies() {
+            let fixed = view.bodies.get(h).is_some_and(|b| b.is_fixed());
             if !fixed {
                 self.integrated += 1;
             }
@@ -244,9 +242,8 @@ impl Coherence {
             let Some(id) = nodes::ensure_body_node(graph, view, h, &mut self.created) else {
                 continue;
             };
-            self.mark_refreshed_with(graph, view, id, h, true, read);
+            self.mark_refreshed(graph, view, id, h, true);
         }
-        self.active_reads = reads;
         // Bodies that fell asleep, turned fixed or were disabled (awake at the last
         // update), the nodes the logic layer asks for (rule members of any kind, bodies
         // made passive or active), bodies whose colliders were added or removed (a
