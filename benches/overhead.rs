@@ -404,7 +404,14 @@ fn main() {
 fn threads() -> String {
     #[cfg(feature = "parallel")]
     {
-        format!("parallel (rayon, {} threads)", rayon::current_num_threads())
+        // Rayon's global pool: `RAYON_NUM_THREADS` threads, else one per core.
+        let threads = std::env::var("RAYON_NUM_THREADS")
+            .ok()
+            .and_then(|n| n.parse::<usize>().ok())
+            .filter(|&n| n > 0)
+            .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
+            .unwrap_or(1);
+        format!("parallel (rayon, {threads} threads)")
     }
     #[cfg(not(feature = "parallel"))]
     {

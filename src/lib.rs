@@ -114,8 +114,8 @@
 //!   `Send + Sync` and are called from Rapier's workers; Rapier hands the collision
 //!   events over in its own sorted order, so the graph, the groups and the event
 //!   stream are the same as single-threaded, event for event, and observing still
-//!   changes no bit of Rapier's results. The analysis runs on the calling thread; its
-//!   per-body read of Rapier's active set goes to rayon's threads in large worlds.
+//!   changes no bit of Rapier's results. The analysis runs on the calling thread, in
+//!   O(awake bodies + changes) per step as without the feature.
 //! - `enhanced-determinism` (turn it on for `rapier3d` in your own `Cargo.toml`;
 //!   cargo's feature unification gives it to the crate's Rapier too): Rapier's
 //!   cross-platform determinism. The layer uses no transcendental function and no

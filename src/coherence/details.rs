@@ -227,44 +227,11 @@ pub(crate) fn touching_depths(
     let mut sorted: Vec<NodeId> = nodes.to_vec();
     sorted.sort_unstable();
     sorted.dedup();
-    // Each node's pairs are read on their own: with `parallel`, chunks of nodes on
-    // rayon's threads, their outputs appended in chunk order, so `out` is the same
-    // sequence as in order.
-    #[cfg(feature = "parallel")]
-    if super::par::parallel_for(sorted.len()) {
-        use rayon::prelude::*;
-        let parts: Vec<Vec<(crate::graph::EdgeId, Real)>> = sorted
-            .par_chunks(super::par::PAR_CHUNK)
-            .map(|chunk| {
-                let mut part = Vec::new();
-                node_depths(graph, view, &sorted, chunk, &mut part);
-                part
-            })
-            .collect();
-        out.extend(parts.into_iter().flatten());
-    } else {
-        node_depths(graph, view, &sorted, &sorted, out);
-    }
-    #[cfg(not(feature = "parallel"))]
-    node_depths(graph, view, &sorted, &sorted, out);
-    out.sort_unstable_by_key(|(e, _)| *e);
-    out.dedup_by_key(|(e, _)| *e);
-}
-
-/// [`touching_depths`] for the nodes `these` of the sorted list `sorted`, appended to
-/// `out` in their order. O(their contact pairs).
-fn node_depths(
-    graph: &ContactGraph,
-    view: &WorldView,
-    sorted: &[NodeId],
-    these: &[NodeId],
-    out: &mut Vec<(crate::graph::EdgeId, Real)>,
-) {
     let touching_physical =
         |e: &crate::graph::Edge| e.is_touching() && e.kind() == EdgeKind::Physical;
     let mut mine: Vec<ColliderHandle> = Vec::new();
     let mut per: Vec<(NodeId, ContactCache)> = Vec::new();
-    for &n in these {
+    for &n in &sorted {
         let Some(node) = graph.node(n) else { continue };
         // Only nodes with a touching edge have anything to read.
         let any = node
@@ -285,4 +252,6 @@ fn node_depths(
             }
         }
     }
+    out.sort_unstable_by_key(|(e, _)| *e);
+    out.dedup_by_key(|(e, _)| *e);
 }

@@ -48,7 +48,6 @@ pub(crate) mod obsolete;
 mod owners;
 mod pair_update;
 pub(crate) mod pairs;
-mod par;
 mod queries;
 mod refresh;
 mod touch_feed;
@@ -60,8 +59,6 @@ mod verify;
 
 pub use obsolete::aabbs_obsolete;
 pub use pairs::WalkCounters;
-#[doc(hidden)]
-pub use par::set_parallel_analysis;
 pub(crate) use touch_feed::TouchEvent;
 pub use touch_feed::{TouchFeed, Tracking};
 pub use user_events::{UserEventFilter, WithUser};
