@@ -34,7 +34,13 @@
 //! 1,000-sphere pile in a bin, which stock Rapier leaves partly awake) and `mixed`
 //! (the same bin with 1,000 bodies, every second one a box); on request the same
 //! scenes at another size, e.g. `mixed:4000` (the bin of 4,000 mixed bodies) or
-//! `spheres:5000` (`spheres5000` and `mixed4000` are aliases).
+//! `spheres:5000` (`spheres5000` and `mixed4000` are aliases); the 20,000-body pile is
+//! `spheres:20000` (alias `spheres20000`; e.g. `--steps 400 --tail 100 --repeats 1`,
+//! a few minutes).
+//!
+//! Built with the crate's `parallel` feature Rapier steps on rayon's threads and every
+//! step is timed in wall-clock time instead (thread CPU time would miss the pool's
+//! workers).
 //!
 //! `--phases N` prints instead each scene's `N` slowest held steps, each split into
 //! the layer's pre-step, Rapier's step and the analysis, with what the pre-step
@@ -45,6 +51,7 @@
 //! cargo bench --bench held -- --scene boxes --repeats 5
 //! cargo bench --bench held -- --monitor           # with the repair monitor
 //! cargo bench --bench held -- --scene mixed:4000 --repeats 3   # the 4,000-body bin
+//! cargo bench --bench held -- --scene spheres20000 --steps 400 --tail 100 --repeats 1
 //! cargo bench --bench held -- --preset fastest    # SpeedUps::papers_fastest()
 //! cargo bench --bench held -- --scene boxes --phases 10   # the slowest steps, split
 //! RCG_HELD_ALONE=held cargo bench --bench held -- --scene boxes --steps 200000
@@ -52,12 +59,16 @@
 //! ```
 
 use clap::Parser;
-use cpu_time::ThreadTime;
+/// Thread CPU time single-threaded; wall clock when Rapier runs on rayon's threads.
+#[cfg(not(feature = "parallel"))]
+use cpu_time::ThreadTime as StepClock;
 use rapier3d::prelude::{PhysicsWorld, RigidBodyType};
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 use rcg_scenes as scenes;
+#[cfg(feature = "parallel")]
+use std::time::Instant as StepClock;
 
 #[path = "held/phases.rs"]
 mod phases;
@@ -107,6 +118,7 @@ const WORST_STEP_TARGET: f64 = 1.25;
 fn build(scene: &str) -> Option<PhysicsWorld> {
     let scene = match scene {
         "spheres5000" => "spheres:5000",
+        "spheres20000" => "spheres:20000",
         "mixed4000" => "mixed:4000",
         s => s,
     };
@@ -247,7 +259,7 @@ fn run(scene: &str, args: &Args) -> Run {
         awake_h.clear();
         let mut v = 0;
         let time_stock = |w: &mut PhysicsWorld, awake: &mut Vec<usize>| {
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             for _ in 0..b {
                 w.step();
                 awake.push(w.islands.num_active_bodies());
@@ -255,7 +267,7 @@ fn run(scene: &str, args: &Args) -> Run {
             t.elapsed().as_secs_f64() / b as f64
         };
         let mut time_held = |w: &mut PhysicsWorld, l: &mut ContactLayer, awake: &mut Vec<usize>| {
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             for _ in 0..b {
                 let s = l.step(w);
                 v += s.violations;
@@ -306,7 +318,7 @@ fn run(scene: &str, args: &Args) -> Run {
     let b = args.batch.max(1);
     // Thread CPU seconds of `b` calls of `step`.
     let batch = |step: &mut dyn FnMut()| {
-        let t = ThreadTime::now();
+        let t = StepClock::now();
         for _ in 0..b {
             step();
         }
@@ -545,7 +557,7 @@ fn alone(scene: &str, which: &str, args: &Args) {
     for _ in 0..1000 {
         step(&mut w);
     }
-    let t = ThreadTime::now();
+    let t = StepClock::now();
     for _ in 0..args.steps {
         step(&mut w);
     }

@@ -8,9 +8,17 @@
 //!   `analyze`), with the subscriptions asked for, their receivers drained every step.
 //!
 //! The order alternates every step (plain first, then layered first) so that machine
-//! noise (a shared 2-core box) hits both alike; every step is timed in thread CPU time.
-//! Only ratios within one run mean anything; absolute times are for orientation. Each
-//! configuration runs `--repeats` times: min / median / max of the ratios are printed.
+//! noise (a shared 2-core box) hits both alike; every step is timed in thread CPU time,
+//! or in wall-clock time with `--clock wall`. Only ratios within one run mean anything;
+//! absolute times are for orientation. Each configuration runs `--repeats` times:
+//! min / median / max of the ratios are printed, and beside them each world's median,
+//! 99th-percentile (nearest rank) and worst step of the last run, in ms.
+//!
+//! *Parallel mode*: built with the crate's `parallel` feature (`rapier3d/parallel`),
+//! Rapier steps both worlds on rayon's global pool (as many threads as rayon gives,
+//! `RAYON_NUM_THREADS` to choose) and the clock is the wall clock (the default then:
+//! thread CPU time would miss the pool's workers). Both worlds are built the same way,
+//! so the ratio is the layer's cost over Rapier with the same threads.
 //!
 //! Subscriptions (`--events`):
 //! - `contact` (default): contact starts and stops and sensor entries and exits, what
@@ -27,12 +35,15 @@
 //! cargo bench --bench overhead -- --scene mixed 1000            # 1,000 balls and boxes
 //! cargo bench --bench overhead -- --events all --repeats 3      # proximity and persist
 //! cargo bench --bench overhead -- --sensor 5000                # with a sensor over a quarter of the bin
+//! cargo bench --bench overhead -- 20000 --steps 300 --tail 100  # 20,000 spheres
+//! cargo bench --bench overhead --features parallel -- --repeats 5   # parallel mode
 //! ```
 //! The default 600 steps (6 simulated seconds at dt = 0.01) cover the fall and the
 //! settling of the pile; the last `--tail` steps are also reported on their own as the
 //! "settled" phase.
 
 use std::hint::black_box;
+use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use cpu_time::ThreadTime;
@@ -70,6 +81,21 @@ enum TrackingArg {
     Proximity,
 }
 
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum ClockArg {
+    /// Thread CPU time (single-threaded builds only: it misses rayon's workers).
+    Cpu,
+    /// Wall-clock time (the default with the `parallel` feature).
+    Wall,
+}
+
+/// The clock when none is asked for: wall clock under `parallel`.
+const DEFAULT_CLOCK: ClockArg = if cfg!(feature = "parallel") {
+    ClockArg::Wall
+} else {
+    ClockArg::Cpu
+};
+
 #[derive(Parser)]
 #[command(about = "What the observe-only layer costs over plain Rapier")]
 struct Args {
@@ -98,6 +124,9 @@ struct Args {
     /// without a body): the bodies inside it hold geometric edges.
     #[arg(long)]
     sensor: bool,
+    /// The clock steps are timed with.
+    #[arg(long, value_enum, default_value_t = DEFAULT_CLOCK)]
+    clock: ClockArg,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -120,6 +149,10 @@ struct Run {
     share_whole: f64,
     share_settled: f64,
     identical: bool,
+    /// Each world's steps (plain, layered: Rapier's step and the layer's work), in
+    /// seconds: median, 99th percentile, worst.
+    steps_plain: [f64; 3],
+    steps_layered: [f64; 3],
     touching_at_end: bool,
     awake_plain: usize,
     awake_layered: usize,
@@ -144,10 +177,33 @@ fn build(scene: SceneArg, n: usize, sensor: bool) -> PhysicsWorld {
     world
 }
 
+/// The clock of the run (`--clock`), set once in `main`.
+static CLOCK: std::sync::OnceLock<ClockArg> = std::sync::OnceLock::new();
+
 fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    let t0 = ThreadTime::now();
-    let out = f();
-    (out, t0.elapsed().as_secs_f64())
+    match CLOCK.get().copied().unwrap_or(DEFAULT_CLOCK) {
+        ClockArg::Cpu => {
+            let t0 = ThreadTime::now();
+            let out = f();
+            (out, t0.elapsed().as_secs_f64())
+        }
+        ClockArg::Wall => {
+            let t0 = Instant::now();
+            let out = f();
+            (out, t0.elapsed().as_secs_f64())
+        }
+    }
+}
+
+/// Median, 99th percentile (nearest rank) and maximum of per-step times.
+fn step_quantiles(v: &[f64]) -> [f64; 3] {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return [0.0; 3];
+    }
+    let rank = |q: f64| v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    [v[v.len() / 2], rank(0.99), v[v.len() - 1]]
 }
 
 /// `ContactLayer::step`, with Rapier's part and the layer's timed apart; the
@@ -236,6 +292,14 @@ fn run(scene: SceneArg, n: usize, args: &Args) -> Run {
         share_whole: share(all),
         share_settled: share(tail),
         identical: bit_identical(&plain, &layered),
+        steps_plain: step_quantiles(&s.plain),
+        steps_layered: step_quantiles(
+            &s.rapier
+                .iter()
+                .zip(&s.layer)
+                .map(|(r, l)| r + l)
+                .collect::<Vec<_>>(),
+        ),
         touching_at_end: layer.analysis().coherence().tracking() == Tracking::Touching,
         awake_plain: plain.islands.num_active_bodies(),
         awake_layered: layered.islands.num_active_bodies(),
@@ -264,14 +328,23 @@ fn main() {
         eprintln!("overhead: --repeats and --steps must be at least 1");
         std::process::exit(2);
     }
+    CLOCK.get_or_init(|| args.clock);
+    if cfg!(feature = "parallel") && args.clock == ClockArg::Cpu {
+        eprintln!("overhead: warning, thread CPU time misses rayon's workers; use --clock wall");
+    }
     println!(
         "observe-only layer / plain Rapier, {} steps (settled: last {}), events {:?}, \
-         tracking asked {:?}, {} run(s) each (min / median / max), thread CPU time{}",
+         tracking asked {:?}, {} run(s) each (min / median / max), {}, {}{}",
         args.steps,
         args.tail.min(args.steps),
         args.events,
         args.tracking,
         args.repeats,
+        threads(),
+        match args.clock {
+            ClockArg::Cpu => "thread CPU time",
+            ClockArg::Wall => "wall clock",
+        },
         if args.sensor {
             ", a sensor in the bin"
         } else {
@@ -280,9 +353,10 @@ fn main() {
     );
     println!(
         "| scene | N | tracking at end | layered / plain, whole run | layered / plain, settled \
-         | layer / Rapier, whole | layer / Rapier, settled | awake plain · layered | edges | events | trajectories |"
+         | layer / Rapier, whole | layer / Rapier, settled | step ms plain: median · p99 · max \
+         | step ms layered: median · p99 · max | awake plain · layered | edges | events | trajectories |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut differ = false;
     for &scene in &args.scenes {
         for &n in &args.sizes {
@@ -297,8 +371,10 @@ fn main() {
             let last = &runs[runs.len() - 1];
             let identical = runs.iter().all(|r| r.identical);
             differ |= !identical;
+            let ms =
+                |q: [f64; 3]| format!("{:.2} · {:.2} · {:.2}", 1e3 * q[0], 1e3 * q[1], 1e3 * q[2]);
             println!(
-                "| {scene:?} | {n} | {} | {} | {} | {} | {} | {} · {} | {} | {} | {} |",
+                "| {scene:?} | {n} | {} | {} | {} | {} | {} | {} | {} | {} · {} | {} | {} | {} |",
                 if last.touching_at_end {
                     "touching"
                 } else {
@@ -308,6 +384,8 @@ fn main() {
                 spread(&runs, |x| x.settled, r),
                 spread(&runs, |x| x.share_whole, p),
                 spread(&runs, |x| x.share_settled, p),
+                ms(last.steps_plain),
+                ms(last.steps_layered),
                 last.awake_plain,
                 last.awake_layered,
                 last.edges,
@@ -319,5 +397,24 @@ fn main() {
     if differ {
         eprintln!("overhead: trajectories differ between the plain and the layered run");
         std::process::exit(1);
+    }
+}
+
+/// Which threads Rapier steps on.
+fn threads() -> String {
+    #[cfg(feature = "parallel")]
+    {
+        // Rayon's global pool: `RAYON_NUM_THREADS` threads, else one per core.
+        let threads = std::env::var("RAYON_NUM_THREADS")
+            .ok()
+            .and_then(|n| n.parse::<usize>().ok())
+            .filter(|&n| n > 0)
+            .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
+            .unwrap_or(1);
+        format!("parallel (rayon, {threads} threads)")
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        "single-threaded".to_string()
     }
 }

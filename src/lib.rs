@@ -105,6 +105,32 @@
 //! | `RigidBody::set_enabled(false)` (a disabled body) | [`LayerLogicMut::set_body_disabled`](crate::LayerLogicMut::set_body_disabled) (guarded against Rapier's panics), [`Node::is_body_disabled`] |
 //! | `PhysicsHooks`, `EventHandler` | yours run beside the layer's: [`ContactLayer::hooks_with`], [`ContactLayer::event_handler_with`] |
 //!
+//! # Rapier's features
+//! Rapier's optional features are the user's choice; the crate builds and keeps its
+//! promises with each (CI runs the determinism and bit-identity tests built with
+//! `parallel` and `enhanced-determinism`, and type-checks `simd8` and
+//! `unsync-callbacks` with `parallel`):
+//! - `parallel`, this crate's feature of the same name: turns on `rapier3d/parallel`
+//!   (Rapier's step on rayon's threads). The layer's hooks and event handler are
+//!   `Send + Sync` and may be called from Rapier's workers; Rapier hands the collision
+//!   events over in its own sorted order, so the graph, the groups and the event
+//!   stream are the same as single-threaded, event for event, and observing still
+//!   changes no bit of Rapier's results. The analysis runs on the calling thread, in
+//!   O(awake bodies + changes) per step as without the feature.
+//! - `enhanced-determinism` (turn it on for `rapier3d` in your own `Cargo.toml`;
+//!   cargo's feature unification gives it to the crate's Rapier too): Rapier's
+//!   cross-platform determinism. The layer adds no arithmetic of its own that
+//!   depends on the platform (no transcendental function), so its graph and events
+//!   follow Rapier's poses; its golden hashes for this build are pinned apart.
+//! - `simd8` (also on `rapier3d`): wider SIMD in Rapier and parry; nothing changes for
+//!   the layer. Parry refuses it beside `enhanced-determinism`.
+//! - `unsync-callbacks` (also on `rapier3d`, with `parallel`): Rapier calls hooks and
+//!   event handlers from one thread; the layer works the same either way.
+//!
+//! `enhanced-determinism` changes Rapier's trajectories (another libm) and `simd8` may
+//! (another SIMD width); `parallel` does not. Within one build, observing leaves
+//! Rapier's trajectories as they are.
+//!
 //! # The paper's terms
 //! The crate names what Rapier has a name for as Rapier does; the paper's terms stay in
 //! the docs where they explain the paper (and as the one-letter codes of text dumps).

@@ -30,7 +30,12 @@
 //! Checked:
 //! 1. two runs of each mode in one process give the same hashes (unconditional);
 //! 2. the observe-only layer's pose hashes equal plain Rapier's (unconditional);
-//! 3. the hashes equal the pinned constants below (x86_64 only).
+//! 3. the hashes equal the pinned constants below (x86_64 only); with
+//!    `RCG_GOLDEN_SET=enhanced-determinism`, for a build with Rapier's
+//!    `enhanced-determinism`, the second set below (every architecture).
+//!
+//! Built with the crate's `parallel` feature (Rapier on rayon's threads) the hashes
+//! are the default build's: the same trajectories and the same event stream.
 //!
 //! # The pinned values
 //! They were measured on x86_64 Linux with rustc 1.95.0, rapier3d 0.36.1 (default
@@ -70,6 +75,32 @@ const GOLDEN_NONE_EVENTS: u64 = 0x8a04_d8ba_9e6f_7794;
 const GOLDEN_OBSERVE_POSES: u64 = 0x7ade_e943_58ff_12cc;
 const GOLDEN_OBSERVE_FINAL: u64 = 0x0105_6043_cac1_72fd;
 const GOLDEN_OBSERVE_EVENTS: u64 = 0x03d0_0f6e_58d4_d9f8;
+
+// ── Pinned hashes with Rapier's `enhanced-determinism` ─────────────────
+// Rapier and parry then compute with libm's functions (parry without SIMD math):
+// other trajectories than the default build's, the same on every platform. Checked
+// when `RCG_GOLDEN_SET=enhanced-determinism` (CI's feature build, together with
+// `parallel`: `--features parallel,rapier3d/enhanced-determinism`), on every
+// architecture.
+
+/// Every speed-up on, `enhanced-determinism`.
+const ED_ALL: [u64; 3] = [
+    0x81c9_f0ec_51d3_f254,
+    0xb47b_200e_cfdf_b9f9,
+    0x212d_b4b0_4b7e_4a92,
+];
+/// `SpeedUps::none()`, `enhanced-determinism`.
+const ED_NONE: [u64; 3] = [
+    0xe7e1_1266_b3ac_3214,
+    0xe3fb_53c9_8e1c_b3b2,
+    0xd8cd_36a3_6234_25d2,
+];
+/// The observe-only layer, `enhanced-determinism`.
+const ED_OBSERVE: [u64; 3] = [
+    0xa5eb_3264_924e_14fa,
+    0xc1e9_ef4a_0a3a_7dbc,
+    0x85e1_49d4_7286_fcc2,
+];
 
 // ── The scene ──────────────────────────────────────────────────────────
 
@@ -392,29 +423,37 @@ fn every_event_kind_occurs() {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
+/// The pinned hashes of the build under test (`RCG_GOLDEN_SET`: unset or `default`,
+/// or `enhanced-determinism`): all, none, observe. `None` where they are not asserted
+/// (the default set off x86_64).
+fn pinned_set() -> Option<(&'static str, [[u64; 3]; 3])> {
+    match std::env::var("RCG_GOLDEN_SET").as_deref() {
+        Err(_) | Ok("default") => cfg!(target_arch = "x86_64").then_some((
+            "x86_64",
+            [
+                [GOLDEN_ALL_POSES, GOLDEN_ALL_FINAL, GOLDEN_ALL_EVENTS],
+                [GOLDEN_NONE_POSES, GOLDEN_NONE_FINAL, GOLDEN_NONE_EVENTS],
+                [
+                    GOLDEN_OBSERVE_POSES,
+                    GOLDEN_OBSERVE_FINAL,
+                    GOLDEN_OBSERVE_EVENTS,
+                ],
+            ],
+        )),
+        Ok("enhanced-determinism") => Some(("enhanced-determinism", [ED_ALL, ED_NONE, ED_OBSERVE])),
+        Ok(other) => panic!("RCG_GOLDEN_SET={other}: default or enhanced-determinism"),
+    }
+}
+
 #[test]
 fn hashes_match_the_pinned_values() {
+    let Some((set, [all, none, observe])) = pinned_set() else {
+        return;
+    };
     let cases = [
-        (
-            "ALL",
-            first_run(&Mode::all()),
-            [GOLDEN_ALL_POSES, GOLDEN_ALL_FINAL, GOLDEN_ALL_EVENTS],
-        ),
-        (
-            "NONE",
-            first_run(&Mode::none()),
-            [GOLDEN_NONE_POSES, GOLDEN_NONE_FINAL, GOLDEN_NONE_EVENTS],
-        ),
-        (
-            "OBSERVE",
-            first_run(&Mode::Observe),
-            [
-                GOLDEN_OBSERVE_POSES,
-                GOLDEN_OBSERVE_FINAL,
-                GOLDEN_OBSERVE_EVENTS,
-            ],
-        ),
+        ("ALL", first_run(&Mode::all()), all),
+        ("NONE", first_run(&Mode::none()), none),
+        ("OBSERVE", first_run(&Mode::Observe), observe),
     ];
     let mut mismatches = Vec::new();
     for (name, o, pinned) in cases {
@@ -432,7 +471,7 @@ fn hashes_match_the_pinned_values() {
     }
     assert!(
         mismatches.is_empty(),
-        "golden determinism hashes changed (x86_64). If the change is intended, update \
+        "golden determinism hashes changed ({set}). If the change is intended, update \
          the constants deliberately and note it in CHANGELOG.md. New values:\n{}",
         mismatches.join("\n")
     );

@@ -1,9 +1,9 @@
 //! `--phases N`: where the held world's slowest steps go. The held world is stepped
 //! by hand (the layer's pre-step, Rapier's step with the layer's hooks and event
-//! handler, the analysis), each call timed in thread CPU time, in lockstep with the
+//! handler, the analysis), each call timed in thread CPU time (wall clock under `parallel`), in lockstep with the
 //! stock world (alternating which goes first, as the table's run does).
 
-use cpu_time::ThreadTime;
+use super::StepClock;
 use rapier3d::prelude::PhysicsWorld;
 use rapier_contact_graph::{ContactLayer, WorldMut, WorldView};
 
@@ -43,7 +43,7 @@ pub fn run(
     let mut splits = Vec::with_capacity(steps);
     for step in 0..steps {
         let time_stock = |w: &mut PhysicsWorld| {
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             w.step();
             t.elapsed().as_secs_f64()
         };
@@ -51,14 +51,14 @@ pub fn run(
             .speedups()
             .map_or((0, 0), |s| (s.stats().fixations, s.stats().releases));
         let time_held = |w: &mut PhysicsWorld, l: &mut ContactLayer| {
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             l.pre_step(WorldMut::from(&mut *w));
             let pre = t.elapsed().as_secs_f64();
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             w.step_with_events(&l.hooks(), l.event_handler());
             let rapier = t.elapsed().as_secs_f64();
             let parking = l.speedups().map_or(0, |s| s.parking().count());
-            let t = ThreadTime::now();
+            let t = StepClock::now();
             let awake = l.analyze(WorldView::from(&*w)).awake_bodies;
             (pre, rapier, t.elapsed().as_secs_f64(), parking, awake)
         };
