@@ -98,9 +98,11 @@ fn bad_arguments_are_usage_errors() {
     let cli = Cli::try_parse_from(["rcg-lab", "disturb", "--quick", "--seeds", "4"]).unwrap();
     match cli.command {
         Command::Disturb(a) => {
-            assert_eq!((a.seeds(), a.scenes.0.len()), (4, 4));
+            assert_eq!((a.seeds(), a.scenes.0.len()), (4, 5));
             assert_eq!(a.params(&a.scenes.0[0]), small(150, 300, 200));
             assert_eq!(a.params(&a.scenes.0[3]), small(120, 1000, 200));
+            assert_eq!(a.scenes.0[4].name, "bin_hit");
+            assert_eq!(a.params(&a.scenes.0[4]), small(120, 1000, 600));
         }
         other => panic!("{other:?}"),
     }
