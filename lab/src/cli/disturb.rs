@@ -1,8 +1,8 @@
 //! `rcg-lab disturb`: settled piles disturbed (a thrown ball, a removed floor segment,
 //! a sweeping paddle; the DIKU scene's pile hit by a thrown sphere; the mixed bin of
-//! balls and boxes hit by a heavy ball) under the
-//! reference, stock Rapier and the layer's sleep presets, judged on paired seeds
-//! against the reference ([`crate::disturb`]).
+//! balls and boxes hit by a heavy ball) under the reference, stock Rapier and the
+//! layer's sleep presets, judged on paired seeds against the reference
+//! ([`crate::disturb`]).
 //!
 //! ```text
 //! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--seed S]
