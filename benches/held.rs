@@ -42,6 +42,10 @@
 //! step is timed in wall-clock time instead (thread CPU time would miss the pool's
 //! workers).
 //!
+//! `--hit STEP` throws the lab's `bin_hit` ball into both worlds of a bin (`mixed`,
+//! `spheres`) before step `STEP` and reports what it displaced in each and the time
+//! from the hit on (`held/hit.rs`).
+//!
 //! `--phases N` prints instead each scene's `N` slowest held steps, each split into
 //! the layer's pre-step, Rapier's step and the analysis, with what the pre-step
 //! applied and stock's step beside it: where a spike comes from.
@@ -54,6 +58,7 @@
 //! cargo bench --bench held -- --scene spheres20000 --steps 400 --tail 100 --repeats 1
 //! cargo bench --bench held -- --preset fastest    # SpeedUps::papers_fastest()
 //! cargo bench --bench held -- --scene boxes --phases 10   # the slowest steps, split
+//! cargo bench --bench held -- --scene mixed --hit 1000 --steps 1600   # hit at 10 s
 //! RCG_HELD_ALONE=held cargo bench --bench held -- --scene boxes --steps 200000
 //!                                                  # one settled world alone, for `perf`
 //! ```
@@ -70,6 +75,8 @@ use rcg_scenes as scenes;
 #[cfg(feature = "parallel")]
 use std::time::Instant as StepClock;
 
+#[path = "held/hit.rs"]
+mod hit;
 #[path = "held/phases.rs"]
 mod phases;
 
@@ -106,6 +113,11 @@ struct Args {
     /// one).
     #[arg(long, value_name = "N")]
     phases: Option<usize>,
+    /// Throw the heavy ball of the lab's `bin_hit` scene into both worlds before step
+    /// `STEP` (the bins `mixed` and `spheres` only; before the settled tail) and report
+    /// the bodies displaced from the hit to the end in each world (see `held/hit.rs`).
+    #[arg(long, value_name = "STEP")]
+    hit: Option<usize>,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -175,6 +187,8 @@ struct Run {
     /// After the run: the held world and its *floor* stepped in batches alternately,
     /// seconds per step (held, floor).
     floor: (f64, f64),
+    /// With `--hit`: what the hit did, `[stock, held]`.
+    hit: Option<[hit::Outcome; 2]>,
 }
 
 /// Rapier's floor for a held world: a fresh world of the scene with every body where
@@ -236,7 +250,9 @@ fn run(scene: &str, args: &Args) -> Run {
         parked_end: 0,
         violations: 0,
         floor: (0.0, 0.0),
+        hit: None,
     };
+    let mut hit = args.hit.map(|at| hit::Hit::new(at, &stock));
     // Falling and settling: each step timed. The settled tail: batches of `--batch`
     // steps timed as one (a settled step costs about a microsecond, of the order of
     // two reads of the thread CPU clock, which would otherwise weigh on both worlds
@@ -248,6 +264,9 @@ fn run(scene: &str, args: &Args) -> Run {
     let mut awake_s = Vec::new();
     let mut awake_h = Vec::new();
     while i < args.steps {
+        if let Some(h) = hit.as_mut() {
+            h.before_step(i, [&mut stock, &mut held]);
+        }
         let b = if i >= settled_from {
             args.batch.max(1).min(args.steps - i)
         } else {
@@ -308,9 +327,16 @@ fn run(scene: &str, args: &Args) -> Run {
     ];
     r.fixated_end = layer.speedups().map_or(0, |s| s.fixated().count());
     r.parked_end = layer.speedups().map_or(0, |s| s.stats().parked);
+    r.hit = hit
+        .as_ref()
+        .and_then(|h| Some([h.outcome(0, &stock)?, h.outcome(1, &held)?]));
     // The floor: 100 steps to settle its fresh contacts, then `--tail` steps of each
     // world in batches of `--batch`, alternating (both are small now).
     let mut floor = floor_of(scene, &held, &layer);
+    if let Some(h) = &hit {
+        let fixed = |b| layer.speedups().is_some_and(|s| s.is_fixated(b));
+        hit::add_ball(&mut floor, &held, h, h.ball(1).is_some_and(fixed));
+    }
     for _ in 0..100 {
         floor.step();
     }
@@ -448,6 +474,16 @@ fn main() {
             std::process::exit(2);
         }
     }
+    if let Some(at) = args.hit {
+        let alone = std::env::var("RCG_HELD_ALONE").is_ok();
+        let bad = chosen.iter().find(|s| !hit::applies_to(s));
+        if at >= args.steps - args.tail || args.phases.is_some() || alone || bad.is_some() {
+            eprintln!(
+                "held: --hit STEP needs STEP < --steps − --tail, the bins (mixed, spheres) only, and neither --phases nor RCG_HELD_ALONE"
+            );
+            std::process::exit(2);
+        }
+    }
     if let Ok(which) = std::env::var("RCG_HELD_ALONE") {
         alone(&chosen[0], &which, &args);
         return;
@@ -495,11 +531,21 @@ fn main() {
         println!("\n{scene}:");
         println!(
             "  whole run   held/stock  {}   (stock {:.3} s, held {:.3} s, first run)",
-            spread(whole),
+            spread(whole.clone()),
             sum(&r.stock),
             sum(&r.held)
         );
         println!("  settled     held/stock  {}", spread(settled));
+        if let Some(at) = args.hit {
+            let hits: Option<Vec<_>> = runs
+                .iter()
+                .map(|r| Some((r.hit?, (&r.stock[..], &r.held[..]))))
+                .collect();
+            match hits {
+                Some(h) => hit::print(at, &h, &whole),
+                None => println!("  hit: n/a (no ball found at the end)"),
+            }
+        }
         // Against the moving bodies alone: only where stock integrates something in
         // every settled step (a pile stock cannot put to sleep).
         let limits: Option<Vec<f64>> = runs

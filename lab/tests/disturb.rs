@@ -1,7 +1,7 @@
 //! The disturbance runner (`rcg-lab disturb`) on small piles: the scenes disturb the
-//! pile without sleep, `reliable_sleep()` holds the settled pile (the box piles and
-//! the DIKU scene's spheres), the command line refuses bad input, and a whole small
-//! run writes its CSV files.
+//! pile without sleep, `reliable_sleep()` holds the settled pile (the box piles, the
+//! DIKU scene's spheres and the mixed bin), the command line refuses bad input, and
+//! a whole small run writes its CSV files.
 
 use clap::Parser;
 use rapier3d::math::{Real, Vector};
@@ -9,6 +9,7 @@ use rcg_lab::cli::{Cli, Command};
 use rcg_lab::disturb::judge::{BALL_SPEED, BALL_X, BALL_Y, DISPLACED, HELD, KE};
 use rcg_lab::disturb::{configs, reference, run, Config, SCENES};
 use rcg_scenes::diku::{is_on_plane, DikuParams};
+use rcg_scenes::disturb::bin_hit::{self, bin_hit};
 use rcg_scenes::disturb::diku_throw::{self, diku_throw};
 use rcg_scenes::disturb::{thrown_ball, DisturbParams};
 
@@ -81,6 +82,24 @@ fn reliable_sleep_holds_the_settled_pile_before_the_disturbance() {
 }
 
 #[test]
+fn the_thrown_ball_displaces_the_mixed_bin_without_sleep_and_reliable_sleep_holds_it() {
+    // The bin at 120 bodies (the --quick size), hit at 10 s.
+    let p = DisturbParams {
+        boxes: 120,
+        after: 150,
+        ..bin_hit::params()
+    };
+    let r = run(&reference(), bin_hit, &p).unwrap();
+    let o = r.outcome;
+    assert!(o[DISPLACED] >= 20.0, "{o:?}");
+    let h = rcg_scenes::pile::inner_half_width(120) as f64;
+    assert!(o[BALL_X].abs() < h && o[BALL_Y] > 0.0, "{o:?}");
+    assert_eq!((o[HELD], r.held_at_disturbance), (0.0, 0));
+    let r = run(&reliable(), bin_hit, &DisturbParams { after: 5, ..p }).unwrap();
+    assert!(r.held_at_disturbance >= 100, "{}", r.held_at_disturbance);
+}
+
+#[test]
 fn bad_arguments_are_usage_errors() {
     for bad in [
         &["rcg-lab", "disturb", "--seeds", "1"][..],
@@ -98,9 +117,11 @@ fn bad_arguments_are_usage_errors() {
     let cli = Cli::try_parse_from(["rcg-lab", "disturb", "--quick", "--seeds", "4"]).unwrap();
     match cli.command {
         Command::Disturb(a) => {
-            assert_eq!((a.seeds(), a.scenes.0.len()), (4, 4));
+            assert_eq!((a.seeds(), a.scenes.0.len()), (4, 5));
             assert_eq!(a.params(&a.scenes.0[0]), small(150, 300, 200));
             assert_eq!(a.params(&a.scenes.0[3]), small(120, 1000, 200));
+            assert_eq!(a.scenes.0[4].name, "bin_hit");
+            assert_eq!(a.params(&a.scenes.0[4]), small(120, 1000, 600));
         }
         other => panic!("{other:?}"),
     }

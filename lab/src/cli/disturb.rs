@@ -1,7 +1,8 @@
 //! `rcg-lab disturb`: settled piles disturbed (a thrown ball, a removed floor segment,
-//! a sweeping paddle; the DIKU scene's pile hit by a thrown sphere) under the
-//! reference, stock Rapier and the layer's sleep presets, judged on paired seeds
-//! against the reference ([`crate::disturb`]).
+//! a sweeping paddle; the DIKU scene's pile hit by a thrown sphere; the mixed bin of
+//! balls and boxes hit by a heavy ball) under the reference, stock Rapier and the
+//! layer's sleep presets, judged on paired seeds against the reference
+//! ([`crate::disturb`]).
 //!
 //! ```text
 //! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--seed S]
@@ -9,7 +10,8 @@
 //! ```
 //! `--boxes`, `--at` and `--after` apply to every scene run; without them each scene
 //! has its own ([`SCENES`]: the box piles 250 boxes, disturbed at step 300; the DIKU
-//! scene 120 spheres, hit at step 1000; 200 steps after).
+//! scene 120 spheres, hit at step 1000; 200 steps after; the mixed bin 1,000 bodies,
+//! hit at step 1000, 600 steps after).
 //! Per scene and seed: the reference (Rapier's defaults, sleep off), its two
 //! refinements (8 solver iterations; half the time step), then stock Rapier, the
 //! layer with `SpeedUps::default()`, `reliable_sleep()`, `reliable_sleep()` with the
@@ -19,8 +21,8 @@
 //! `+`/`-` differs upwards/downwards, `?` undecided, `!` not finite). Writes
 //! `runs.csv` (one row per run) and `results.csv` (one row per scene, configuration
 //! and observable) into `DIR` (default `target/disturb`). `--quick` (CI): 3 seeds,
-//! 150 boxes, the DIKU scene's 120 spheres. Runs are sequential: the step times are
-//! of one core.
+//! 150 boxes, the DIKU scene's 120 spheres, a mixed bin of 120 bodies. Runs are
+//! sequential: the step times are of one core.
 
 use std::path::PathBuf;
 
@@ -34,11 +36,11 @@ use crate::disturb::{COUNT, OBSERVABLES, SCENES};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Scenes: `all` or a comma list of thrown_ball, support_removed, paddle,
-    /// diku_throw.
+    /// diku_throw, bin_hit.
     #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_scenes)]
     pub scenes: Scenes,
-    /// Bodies in each pile, boxes or spheres (default: the scene's, 250 boxes and 120
-    /// spheres; with --quick 150 boxes and 120 spheres).
+    /// Bodies in each pile, boxes or spheres (default: the scene's, 250 boxes, 120
+    /// spheres, 1,000 mixed bodies; with --quick 150 boxes, 120 spheres, 120 mixed).
     #[arg(long, visible_alias = "bodies", value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub boxes: Option<u64>,
     /// Paired seeds S, S+1, ... (at least 2; default 8; 3 with --quick).
@@ -48,13 +50,14 @@ pub struct Args {
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
     /// The disturbance step (settling before it; steps of 0.01 s; default: the
-    /// scene's, 300 for the box piles, 1000 for diku_throw).
+    /// scene's, 300 for the box piles, 1000 for diku_throw and bin_hit).
     #[arg(long, value_name = "STEP", value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
     pub at: Option<u64>,
-    /// Steps run after the disturbance (default: the scene's, 200).
+    /// Steps run after the disturbance (default: the scene's, 200; 600 for bin_hit).
     #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
     pub after: Option<u64>,
-    /// The CI settings: 3 seeds, 150 boxes and 120 spheres unless given.
+    /// The CI settings: 3 seeds, 150 boxes, 120 spheres and 120 mixed bodies unless
+    /// given.
     #[arg(long)]
     pub quick: bool,
     /// Directory for runs.csv and results.csv.

@@ -54,8 +54,8 @@ pub enum Command {
     /// seed ensembles, table, CSV and chart (paper §7; `docs/accuracy.md`).
     Diku(diku::Args),
     /// Settled piles disturbed (thrown ball, removed support, paddle, a sphere thrown
-    /// into the settled DIKU pile) under the reference, stock Rapier and the sleep
-    /// presets, judged on paired seeds.
+    /// into the settled DIKU pile, a heavy ball into the mixed bin) under the
+    /// reference, stock Rapier and the sleep presets, judged on paired seeds.
     Disturb(disturb::Args),
     /// The stability suite: every scene under the configurations, violations and
     /// deviation per scene, and whether each target's failure shows.

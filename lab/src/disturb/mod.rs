@@ -3,7 +3,8 @@
 //!
 //! Each scene of `rcg_scenes::disturb` settles a pile and then disturbs it (a
 //! thrown ball, a removed floor segment, a sweeping paddle in a box pile; a heavy
-//! sphere thrown into the DIKU scene's pile of spheres). A run steps one scene on
+//! sphere thrown into the DIKU scene's pile of spheres; a heavy ball thrown into the
+//! held-bodies benchmark's bin of mixed balls and boxes). A run steps one scene on
 //! one seed under one [`Config`] and reads its [`Outcome`]: how many pile bodies moved
 //! more than [`MOVED`] between the disturbance and the end, where the ball ended and
 //! how fast, the pile's centre height and horizontal spread, the kinetic energy left,
@@ -187,8 +188,11 @@ const fn boxes(name: &'static str, build: Builder) -> SceneSpec {
 }
 
 /// The scenes, in report order: the three box piles, then the DIKU scene with a
-/// sphere thrown in (its own sizes: the DIKU run's 120 spheres, the throw at 10 s).
-pub const SCENES: [SceneSpec; 4] = [
+/// sphere thrown in (its own sizes: the DIKU run's 120 spheres, the throw at 10 s),
+/// then the held-bodies benchmark's bin of mixed balls and boxes hit by a heavy ball
+/// (its own sizes: 1,000 bodies, the hit at 10 s, 6 s after; a smaller bin under
+/// `--quick`).
+pub const SCENES: [SceneSpec; 5] = [
     boxes("thrown_ball", rcg_scenes::disturb::thrown_ball),
     boxes("support_removed", rcg_scenes::disturb::support_removed),
     boxes("paddle", rcg_scenes::disturb::paddle),
@@ -199,7 +203,18 @@ pub const SCENES: [SceneSpec; 4] = [
         quick_bodies: QUICK_SPHERES,
         bodies: "spheres",
     },
+    SceneSpec {
+        name: "bin_hit",
+        build: rcg_scenes::disturb::bin_hit,
+        defaults: rcg_scenes::disturb::bin_hit::params(),
+        quick_bodies: QUICK_BIN,
+        bodies: "bodies",
+    },
 ];
+
+/// The mixed bin under `--quick`: 120 bodies in a bin of their size (6 m across),
+/// hit by the same ball at the same time (about a tenth of the default run's cost).
+pub const QUICK_BIN: usize = 120;
 
 /// The DIKU pile under `--quick`.
 pub const QUICK_SPHERES: usize = 120;

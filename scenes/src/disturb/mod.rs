@@ -16,7 +16,10 @@
 //! A fourth, [`diku_throw`](diku_throw::diku_throw), disturbs the DIKU scene instead
 //! ([`mod@crate::diku`]: spheres settled on an inclined plane, not boxes in a bin): a
 //! heavy sphere thrown into its pile late in the run; its `boxes` are spheres and its
-//! defaults are its own ([`diku_throw::params`]).
+//! defaults are its own ([`diku_throw::params`]). A fifth, [`bin_hit`](bin_hit::bin_hit),
+//! hits the held-bodies benchmark's bin of mixed balls and boxes ([`crate::mixed_pile`])
+//! with a heavy ball mid-run; its `boxes` count balls and boxes, its defaults are its
+//! own ([`bin_hit::params`]).
 //!
 //! A [`Disturbance`] is a [`Scene`] plus its pile, its disturbance step and what to do
 //! then; the runner calls [`Disturbance::before_step`] before every step (not the
@@ -29,11 +32,13 @@ use rapier3d::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, RigidBo
 use crate::jitter::Jitter;
 use crate::Scene;
 
+pub mod bin_hit;
 pub mod diku_throw;
 pub mod paddle;
 pub mod support_removed;
 pub mod thrown_ball;
 
+pub use bin_hit::bin_hit;
 pub use diku_throw::diku_throw;
 pub use paddle::paddle;
 pub use support_removed::support_removed;
@@ -62,7 +67,8 @@ pub const TILT: Real = 0.2;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DisturbParams {
     /// Boxes dropped into the bin (default 250); spheres dropped on the plane in
-    /// [`diku_throw`](diku_throw::diku_throw).
+    /// [`diku_throw`](diku_throw::diku_throw); balls and boxes dropped into the bin of
+    /// [`bin_hit`](bin_hit::bin_hit).
     pub boxes: usize,
     /// Seed of the drop jitter (default 0).
     pub seed: u64,
@@ -112,6 +118,32 @@ pub enum Action {
     },
 }
 
+impl Action {
+    /// For [`Action::Throw`]: inserts its ball into `world` (dynamic, CCD on, friction
+    /// [`FRICTION`]) and returns it; `None` for the other actions. O(1).
+    pub fn throw_into(&self, world: &mut PhysicsWorld) -> Option<RigidBodyHandle> {
+        let Action::Throw {
+            radius,
+            density,
+            start,
+            velocity,
+        } = *self
+        else {
+            return None;
+        };
+        let (h, _) = world.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(start)
+                .linvel(velocity)
+                .ccd_enabled(true),
+            ColliderBuilder::ball(radius)
+                .density(density)
+                .friction(FRICTION),
+        );
+        Some(h)
+    }
+}
+
 /// A disturbance scene: the world, the pile, and what happens at step `at`.
 pub struct Disturbance {
     /// The scene (its `script` is `None`; see [`Disturbance::before_step`]).
@@ -134,22 +166,8 @@ impl Disturbance {
     pub fn before_step(&mut self, step: u64) {
         let world = &mut self.scene.world;
         match self.action {
-            Action::Throw {
-                radius,
-                density,
-                start,
-                velocity,
-            } if step == self.at => {
-                let (h, _) = world.insert(
-                    RigidBodyBuilder::dynamic()
-                        .translation(start)
-                        .linvel(velocity)
-                        .ccd_enabled(true),
-                    ColliderBuilder::ball(radius)
-                        .density(density)
-                        .friction(FRICTION),
-                );
-                self.projectile = Some(h);
+            Action::Throw { .. } if step == self.at => {
+                self.projectile = self.action.throw_into(world);
             }
             Action::Remove(h) if step == self.at => {
                 world.remove_body(h);
