@@ -1,4 +1,4 @@
-//! `--hit STEP`: the bin hit mid-run (issue 26), in both worlds of the held bench.
+//! `--hit STEP`: the bin hit mid-run by a heavy ball, in both worlds of the held bench.
 //!
 //! Before step `STEP` the heavy ball of `rcg_scenes::disturb::bin_hit` (radius 0.5 m,
 //! 10× the pile's density, 10 m/s at 30° below the horizontal, from over the `-x`
@@ -125,7 +125,7 @@ pub fn add_ball(floor: &mut PhysicsWorld, held: &PhysicsWorld, hit: &Hit, fixed:
 /// The hit's lines of a scene: per world the bodies displaced from the hit to the
 /// end and the ball's end, over the runs (min / median / max; the runs are
 /// deterministic, so they agree), the CPU time from the hit on as a ratio, and the
-/// issue's speed target on the whole run. `runs`: per run the outcomes `[stock, held]`
+/// speed target on the whole run (held at most half of stock's time). `runs`: per run the outcomes `[stock, held]`
 /// and the step times `(stock, held)`.
 pub fn print(at: usize, runs: &[([Outcome; 2], (&[f64], &[f64]))], whole: &[f64]) {
     let of = |k: usize, f: fn(&Outcome) -> f64| spread(runs.iter().map(|r| f(&r.0[k])).collect());

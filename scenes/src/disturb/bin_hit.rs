@@ -1,5 +1,5 @@
-//! The bin of mixed balls and boxes hit mid-run by a heavy ball (issue 26's second
-//! case: the pile the held-bodies benchmark and the peers' comparison run).
+//! The bin of mixed balls and boxes hit mid-run by a heavy ball (the pile
+//! the held-bodies benchmark and the peers' comparison run).
 //!
 //! The pile is [`mixed_pile`] itself (`benches/held.rs`'s `mixed` scene): by default
 //! [`BODIES`] bodies, balls (radius 0.5 m) and cubes (half extent 0.4 m)
