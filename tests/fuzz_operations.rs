@@ -166,23 +166,16 @@
 //! the harness avoids what triggers the open bugs and the limits (`Harness::steer`;
 //! each place names the test; `harness::run_unsteered` replays without it):
 //! - no held body joins a multibody
-//!   (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`,
-//!   `bug_a_held_passive_body_joined_to_a_multibody_does_not_panic`), nor is a held
-//!   multibody member made passive;
+//!   (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`);
 //! - no user `set_enabled(false)` on a held body in its parking step
-//!   (`limit_a_held_body_the_user_disables_while_parking_stays_disabled`), nor on a
-//!   jointed body where the speed-ups run
-//!   (`bug_a_body_jointed_to_a_disabled_one_is_not_held`);
+//!   (`limit_a_held_body_the_user_disables_while_parking_stays_disabled`);
 //! - no unseen step and no second-layer step while a held body is a multibody link
-//!   (`bug_an_unseen_step_with_a_held_body_joined_to_a_multibody_does_not_panic`), a
+//!   (`limit_an_unseen_step_with_a_held_body_joined_to_a_multibody_panics_rapier`), a
 //!   joint the layer has not guarded yet has a disabled body
 //!   (`limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`:
 //!   Rapier panics), or a multibody holds a disabled body
 //!   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`), or
-//!   the layer has rules (`bug_a_rule_holds_across_a_step_the_layer_did_not_see`,
-//!   `bug_a_rule_of_one_layer_holds_across_the_other_layers_steps`); nor,
-//!   but under the proximity configuration, while the speed-ups own sleeping
-//!   (`bug_an_unseen_step_is_noticed_under_the_speedups`);
+//!   the layer has rules (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`);
 //! - the twin gets the layer's own `COLLISION_EVENTS` writes, at the same time
 //!   (`limit_flags_added_after_an_unseen_step_change_no_trajectory`);
 //! - the second layer gets a full sync when the first changed a sensor's collision
