@@ -10,6 +10,7 @@
 
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::{PhysicsWorld, RigidBodyHandle, RigidBodyType};
+use rcg_lab::disturb::positions;
 use rcg_scenes::disturb::{bin_hit, Action};
 
 use super::{median, spread};
@@ -157,19 +158,6 @@ pub fn print(at: usize, runs: &[([Outcome; 2], (&[f64], &[f64]))], whole: &[f64]
     );
 }
 
-/// Issue 26: with the hit mid-run, the held world still runs the bin at least this
+/// The target: with the hit mid-run, the held world still runs the bin at least this
 /// many times faster than stock over the whole run.
 pub const SPEED_TARGET: f64 = 2.0;
-
-/// The positions of `bodies` (NaN for a missing one). O(bodies).
-fn positions(world: &PhysicsWorld, bodies: &[RigidBodyHandle]) -> Vec<Vector> {
-    bodies
-        .iter()
-        .map(|&h| {
-            world
-                .bodies
-                .get(h)
-                .map_or(Vector::splat(Real::NAN), |b| b.translation())
-        })
-        .collect()
-}
