@@ -102,10 +102,7 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
         layer.validate(&world).unwrap();
     }
     // Failed when found: 1 hanging sleeper (the floor, after 0.1 s).
-    assert_eq!(
-        layer.monitor().map(|m| m.monitor().totals()).unwrap(),
-        Default::default()
-    );
+    assert_eq!(common::violation_totals(&layer), Default::default());
 }
 
 /// The same cause as `fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper`: a body made
@@ -147,10 +144,7 @@ fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
         layer.validate(&world).unwrap();
     }
     // Failed when found: 1 hanging sleeper (the passive ball, after 0.1 s).
-    assert_eq!(
-        layer.monitor().map(|m| m.monitor().totals()).unwrap(),
-        Default::default()
-    );
+    assert_eq!(common::violation_totals(&layer), Default::default());
 }
 
 /// A body the speed-ups hold (fixed to Rapier; parked out of its active set here,

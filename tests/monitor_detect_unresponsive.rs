@@ -50,11 +50,7 @@ fn run(scene: &mut Scene, layer: &mut ContactLayer, first: u64, n: u64) {
 }
 
 fn unresponsive(layer: &ContactLayer) -> u64 {
-    layer
-        .monitor()
-        .map(|m| m.monitor().totals())
-        .unwrap()
-        .unresponsive
+    common::violation_totals(&layer).unresponsive
 }
 
 fn x_of(scene: &Scene, name: &str) -> Real {
@@ -87,19 +83,12 @@ fn a_box_pushed_slowly_into_a_held_pile_is_reported_once() {
     assert!(!layer
         .analysis()
         .holds(&scene.world.bodies, scene.body("pusher").unwrap()));
-    assert_eq!(
-        layer
-            .monitor()
-            .map(|m| m.monitor().totals())
-            .unwrap()
-            .total(),
-        0
-    );
+    assert_eq!(common::violation_totals(&layer).total(), 0);
     assert_eq!(rx.try_iter().count(), 0);
     let b0_x = x_of(&scene, "b0");
     // The push: the held row stops the pusher, once reported.
     run(&mut scene, &mut layer, 140, 160);
-    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
+    let totals = common::violation_totals(&layer);
     assert_eq!(totals.unresponsive, 1, "{totals:?}");
     assert_eq!(totals.total(), 1, "{totals:?}");
     assert_eq!(x_of(&scene, "b0"), b0_x, "a held box does not move");
@@ -163,14 +152,7 @@ fn nothing_held_or_a_high_threshold_reports_nothing() {
     );
     let b0_x = x_of(&scene, "b0");
     run(&mut scene, &mut layer, 0, 300);
-    assert_eq!(
-        layer
-            .monitor()
-            .map(|m| m.monitor().totals())
-            .unwrap()
-            .total(),
-        0
-    );
+    assert_eq!(common::violation_totals(&layer).total(), 0);
     assert!(x_of(&scene, "b0") > b0_x + 0.2, "the pile was pushed");
     // Fixation with a threshold above the push: not reported, and not moved.
     let mut scene = slow_push::slow_push();
@@ -280,7 +262,7 @@ fn bodies_settling_on_a_held_pile_report_nothing() {
             .insert(RigidBodyBuilder::dynamic().translation(at), collider);
     }
     run(&mut scene, &mut layer, step, 300);
-    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
+    let totals = common::violation_totals(&layer);
     let peaks = layer.monitor().unwrap().monitor().peaks();
     println!(
         "settlers: {totals:?}, peak unresponsive {:.3}",
@@ -309,7 +291,7 @@ fn settling_piles_under_reliable_sleep_report_few_unresponsive_bodies() {
             MonitorConfig::default(),
         );
         run(&mut scene, &mut layer, 0, steps);
-        let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
+        let totals = common::violation_totals(&layer);
         let peaks = layer.monitor().unwrap().monitor().peaks();
         println!(
             "{}: {totals:?}, peak unresponsive {:.3}, fixated {}",

@@ -49,14 +49,7 @@ fn fixated_stack_losing_its_base(
         assert!(step < 2000, "the stack never came to rest");
     }
     // Settled and fixated: nothing was wrong so far.
-    assert_eq!(
-        layer
-            .monitor()
-            .map(|m| m.monitor().totals())
-            .unwrap()
-            .total(),
-        0
-    );
+    assert_eq!(common::violation_totals(&layer).total(), 0);
     assert_eq!(
         rx.try_iter().count(),
         0,
@@ -83,7 +76,7 @@ fn report_mode_finds_no_hanging_sleeper_where_fixation_lets_a_stack_fall() {
     for _ in 0..150 {
         per_step += run_validated(&mut scene, &mut layer, 0, 1).violations;
     }
-    let totals = layer.monitor().map(|m| m.monitor().totals()).unwrap();
+    let totals = common::violation_totals(&layer);
     assert_eq!(
         totals,
         layer.monitor().unwrap().monitor().totals(),
@@ -218,14 +211,7 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
             "step {step}"
         );
     }
-    assert_eq!(
-        layer
-            .monitor()
-            .map(|m| m.monitor().totals())
-            .unwrap()
-            .escape,
-        1
-    );
+    assert_eq!(common::violation_totals(&layer).escape, 1);
 }
 
 #[test]

@@ -140,3 +140,11 @@ pub fn monitor_in(layer: &mut ContactLayer, mode: rapier_contact_graph::monitor:
         .set(mode, MonitorConfig::default(), RepairConfig::default())
         .expect("the default monitor settings are valid");
 }
+
+/// The monitor's violations counted so far, by kind (the monitor must be on).
+pub fn violation_totals(layer: &ContactLayer) -> rapier_contact_graph::monitor::ViolationCounts {
+    layer
+        .monitor()
+        .map(|m| m.monitor().totals())
+        .expect("the monitor is on")
+}
