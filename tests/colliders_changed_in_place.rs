@@ -220,14 +220,7 @@ fn a_rule_applies_to_a_collider_moved_onto_a_member() {
     run(&mut layer, &mut world, 2, "start");
     world.colliders.set_parent(wall, Some(a), &mut world.bodies);
     layer.analysis_mut().request_full_sync();
-    let (na, nb) = (
-        layer.graph().try_node_of_body(a).unwrap(),
-        layer.graph().try_node_of_body(b).unwrap(),
-    );
-    layer
-        .logic_mut()
-        .add_rule(Rule::ignore_pair(na, nb))
-        .unwrap();
+    layer.logic_mut().ignore_pair(&world, a, b).unwrap();
     run(&mut layer, &mut world, 20, "moved, then ruled");
 }
 

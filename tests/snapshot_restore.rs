@@ -16,7 +16,7 @@ use common::pose_bits;
 use rapier3d::prelude::*;
 use rapier_contact_graph::logic::IgnorePredicate;
 use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
-use rapier_contact_graph::{ContactLayer, NodeId, Rule};
+use rapier_contact_graph::{ContactLayer, NodeId};
 use rcg_scenes::{self as scenes, Scene};
 
 use twins::*;
@@ -285,14 +285,7 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
         };
         world.remove_body(gone);
         ball_at(world, [0.2, 8.0, -0.3], 0.3);
-        let (na, nb) = (
-            layer.graph().try_node_of_body(a).unwrap(),
-            layer.graph().try_node_of_body(b).unwrap(),
-        );
-        layer
-            .logic_mut()
-            .add_rule(Rule::ignore_pair(na, nb))
-            .unwrap();
+        layer.logic_mut().ignore_pair(&*world, a, b).unwrap();
         layer.logic_mut().add_timer(0.1).unwrap();
         layer
             .logic_mut()
