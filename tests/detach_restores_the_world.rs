@@ -9,7 +9,7 @@ mod common;
 
 use rapier3d::prelude::*;
 use rapier_contact_graph::coherence::Tracking;
-use rapier_contact_graph::monitor::{MonitorConfig, MonitorMode, RepairConfig};
+use rapier_contact_graph::monitor::MonitorMode;
 use rapier_contact_graph::{ContactLayer, WorldMut};
 
 use common::build::*;
@@ -159,14 +159,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
                 .unwrap();
         }
         if i == 30 {
-            layer
-                .monitor_mut()
-                .set(
-                    MonitorMode::Repair,
-                    MonitorConfig::default(),
-                    RepairConfig::default(),
-                )
-                .unwrap();
+            common::monitor_in(&mut layer, MonitorMode::Repair);
         }
     }
     // The user changes their own settings while the layer's flags are on: these are
@@ -197,14 +190,7 @@ fn detach_gives_back_every_setting_as_the_user_last_set_it() {
             }
             80 => {
                 layer.speedups_mut().set(None).unwrap();
-                layer
-                    .monitor_mut()
-                    .set(
-                        MonitorMode::Off,
-                        MonitorConfig::default(),
-                        RepairConfig::default(),
-                    )
-                    .unwrap();
+                common::monitor_in(&mut layer, MonitorMode::Off);
                 layer.set_tracking(Tracking::Touching);
             }
             _ => {}

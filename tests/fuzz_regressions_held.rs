@@ -86,14 +86,7 @@ fn fixed_a_fixed_body_put_to_sleep_is_no_hanging_sleeper() {
     let mut world = harness::arena();
     let floor = world.bodies.iter().next().unwrap().0;
     let mut layer = ContactLayer::new();
-    layer
-        .monitor_mut()
-        .set(
-            MonitorMode::Report,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Report);
     layer.step(&mut world);
     world.bodies[floor].sleep();
     layer.analysis_mut().request_full_sync();
@@ -125,14 +118,7 @@ fn fixed_a_passive_body_put_to_sleep_is_no_hanging_sleeper() {
         ColliderBuilder::ball(0.25),
     );
     let mut layer = ContactLayer::new();
-    layer
-        .monitor_mut()
-        .set(
-            MonitorMode::Report,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Report);
     layer.step(&mut world);
     layer
         .logic_mut()

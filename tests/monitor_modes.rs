@@ -156,14 +156,7 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
     let build = || {
         let mut scene = sphere_pile(30, 3);
         let mut layer = ContactLayer::new();
-        layer
-            .monitor_mut()
-            .set(
-                MonitorMode::Repair,
-                MonitorConfig::default(),
-                RepairConfig::default(),
-            )
-            .unwrap();
+        common::monitor_in(&mut layer, MonitorMode::Repair);
         let rx = layer.subscribe(Filter::kinds(KindSet::MONITOR));
         run_validated(&mut scene, &mut layer, 0, 120);
         (scene, layer, rx)
@@ -217,14 +210,7 @@ fn non_finite_state_is_an_escape_and_the_body_is_isolated() {
 #[test]
 fn bad_monitor_parameters_are_refused_and_change_nothing() {
     let mut layer = ContactLayer::new();
-    layer
-        .monitor_mut()
-        .set(
-            MonitorMode::Report,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Report);
     let bad = MonitorConfig {
         hang_time: Real::NAN,
         ..MonitorConfig::default()
@@ -272,14 +258,7 @@ fn leaving_repair_mode_restores_rapiers_corrective_velocity() {
             < original;
     }
     assert!(capped, "released bodies get a capped correction");
-    layer
-        .monitor_mut()
-        .set(
-            MonitorMode::Off,
-            MonitorConfig::default(),
-            RepairConfig::default(),
-        )
-        .unwrap();
+    common::monitor_in(&mut layer, MonitorMode::Off);
     assert!(layer.monitor().is_none());
     run_validated(&mut scene, &mut layer, 0, 1);
     assert_eq!(
