@@ -108,13 +108,7 @@ mod tests {
         let d = bin_hit(&p);
         let plain = mixed_pile(200, 3);
         assert_eq!(d.pile.len(), 200);
-        assert_eq!(d.pile, plain.dynamic_bodies());
-        for &h in &d.pile {
-            assert_eq!(
-                d.scene.world.bodies[h].translation(),
-                plain.world.bodies[h].translation()
-            );
-        }
+        crate::disturb::assert_pile_of(&d, &plain);
         assert_eq!((d.at, d.steps), (AT, AT + AFTER));
         assert_eq!(d.scene.name, "bin_hit");
         assert!(d.scene.body("container").is_some());

@@ -145,13 +145,7 @@ mod tests {
         let d = diku_throw(&p);
         let plain = diku(&diku_params(&p));
         assert_eq!(d.pile.len(), SPHERES);
-        assert_eq!(d.pile, plain.dynamic_bodies());
-        for &h in &d.pile {
-            assert_eq!(
-                d.scene.world.bodies[h].translation(),
-                plain.world.bodies[h].translation()
-            );
-        }
+        crate::disturb::assert_pile_of(&d, &plain);
         assert_eq!((d.at, d.steps), (AT, AT + AFTER));
         assert_eq!(d.scene.name, "diku_throw");
     }

@@ -279,6 +279,19 @@ pub(crate) fn drop_boxes(
     out
 }
 
+/// Test check: the disturbance's pile is the plain scene's dynamic bodies, where the
+/// plain scene has them.
+#[cfg(test)]
+fn assert_pile_of(d: &Disturbance, plain: &Scene) {
+    assert_eq!(d.pile, plain.dynamic_bodies());
+    for &h in &d.pile {
+        assert_eq!(
+            d.scene.world.bodies[h].translation(),
+            plain.world.bodies[h].translation()
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
