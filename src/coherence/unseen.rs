@@ -37,8 +37,8 @@ pub(crate) struct StepWitness {
 
 impl StepWitness {
     /// Records the first [`SAMPLE`] dynamic bodies of Rapier's active set as they are
-    /// after the step just analysed (with none, its first other bodies' poses). O(SAMPLE + the kinematic and fixed bodies before
-    /// them in the active set).
+    /// after the step just analysed (with none, its first other bodies' poses).
+    /// O(SAMPLE + the kinematic and fixed bodies before them in the active set).
     pub(crate) fn record(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
         self.sample.clear();
         // Dynamic bodies only: a kinematic body at rest (or driven by less than a
@@ -129,17 +129,11 @@ impl Coherence {
     /// full, as after [`Self::request_full_sync`]. Touching tracking learns changes
     /// from the events alone; proximity tracking reads the pairs of every body awake
     /// now or at the last update, but a body the user woke and put back to sleep
-    /// around the missed step was asleep at both. Whether it saw one. O([`SAMPLE`]).
-    pub(crate) fn check_unseen_step(
-        &mut self,
-        bodies: &RigidBodySet,
-        islands: &IslandManager,
-    ) -> bool {
-        let seen = self.tracking.is_some() && self.witness.stepped_since(bodies, islands);
-        if seen {
+    /// around the missed step was asleep at both. O([`SAMPLE`]).
+    pub(crate) fn check_unseen_step(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
+        if self.tracking.is_some() && self.witness.stepped_since(bodies, islands) {
             self.force_full_sync = true;
             self.unseen_step = true;
         }
-        seen
     }
 }

@@ -78,8 +78,9 @@ impl Held {
 }
 
 /// Whether Rapier cannot step a body fixed where it is joined: a multibody member
-/// (link or root), or a body with an impulse joint to a disabled one (see
-/// [`SpeedUpState::release_joined`]). O(its joints).
+/// (link or root), or a body with an impulse joint to a disabled one. Such a body is
+/// never held, and a held one is released ([`SpeedUpState::release_joined`]). O(its
+/// joints).
 fn joined_unsafely(world: &WorldMut, h: RigidBodyHandle) -> bool {
     world.multibody_joints.rigid_body_link(h).is_some()
         || world
@@ -192,35 +193,24 @@ impl SpeedUpState {
     }
 
     /// Releases the held bodies the user joined since they were fixated to what Rapier
-    /// cannot step with a fixed body: a multibody (as a link Rapier asserts it dynamic;
-    /// as a root it breaks Rapier's islands and a passive one its solver), or, by an
-    /// impulse joint, a disabled body (Rapier panics on a joint between a disabled and
-    /// a fixed body). O(multibody links + impulse joints) · O(log held), only while
-    /// bodies are held.
+    /// cannot step with a fixed body ([`joined_unsafely`]): a multibody (as a link
+    /// Rapier asserts it dynamic; as a root it breaks Rapier's islands and a passive
+    /// one its solver), or, by an impulse joint, a disabled body (Rapier panics on a
+    /// joint between a disabled and a fixed body). O(held bodies · their joints), only
+    /// while the world has joints.
     pub(super) fn release_joined(&mut self, world: &WorldMut) {
-        if self.held.is_empty() {
+        let jointed = !world.impulse_joints.is_empty()
+            || world.multibody_joints.multibodies().next().is_some();
+        if self.held.is_empty() || !jointed {
             return;
         }
-        let held = |h: RigidBodyHandle| self.held.contains_key(&key(h));
-        let mut out: Vec<RigidBodyHandle> = Vec::new();
-        for mb in world.multibody_joints.multibodies() {
-            out.extend(
-                mb.links()
-                    .map(|l| l.rigid_body_handle())
-                    .filter(|&h| held(h)),
-            );
-        }
-        let disabled = |h: RigidBodyHandle| world.bodies.get(h).is_some_and(|rb| !rb.is_enabled());
-        for (_, j) in world.impulse_joints.iter() {
-            let (b1, b2) = (j.body1(), j.body2());
-            if held(b1) && disabled(b2) {
-                out.push(b1);
-            }
-            if held(b2) && disabled(b1) {
-                out.push(b2);
-            }
-        }
-        self.queue_releases(out);
+        let joined: Vec<RigidBodyHandle> = self
+            .held
+            .values()
+            .map(|held| held.handle)
+            .filter(|&h| joined_unsafely(world, h))
+            .collect();
+        self.queue_releases(joined);
     }
 
     /// Applies the queued releases: each body given back as it was held, never
