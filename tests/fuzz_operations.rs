@@ -165,8 +165,6 @@
 //! limit (they fail with `--ignored`). So that the fuzzing goes on finding new bugs,
 //! the harness avoids what triggers the open bugs and the limits (`Harness::steer`;
 //! each place names the test; `harness::run_unsteered` replays without it):
-//! - no held body joins a multibody
-//!   (`bug_a_held_body_in_a_multibody_trips_no_rapier_assertion`);
 //! - no user `set_enabled(false)` on a held body in its parking step
 //!   (`limit_a_held_body_the_user_disables_while_parking_stays_disabled`);
 //! - no unseen step and no second-layer step while a held body is a multibody link

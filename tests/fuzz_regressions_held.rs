@@ -400,24 +400,22 @@ fn fixed_a_body_jointed_to_a_disabled_one_is_not_held() {
 }
 
 /// A pile with a rule, a joint and a multibody joint whose bodies the speed-ups hold
-/// (`reliable_sleep`): in a debug build Rapier's island manager asserts ("assertion
-/// failed: member(link.body1) || member(link.body2)", `island_manager/persistent.rs:835`)
-/// in the layer's step. Found by `speedups_reliable_sleep`'s long run in the test
-/// profile (debug assertions on; the release run, without them, passed), shrunk by
-/// the runner to these 20 operations: without the rule, the joint or the multibody
-/// joint it passes, and so it does under `touching`, `proximity`, `speedups_default`
-/// and `speedups_papers_fastest`. The guess: a multibody (or impulse) joint whose
-/// bodies are both out of Rapier's islands (held: fixed, or parked) while Rapier keeps
-/// a link between them. In a release build the assertion is compiled out and this test
-/// passes: run it in the test profile. Since held multibody members are released
-/// (root too) it still fails, with no body held in the last steps: the multibody
-/// explodes, Rapier's quarantine disables both links for their non-finite poses, and
-/// its islands assert in the next step. Without the rule (it flags the ground's
-/// collider for the layer's hooks) it passes; a plain-Rapier reproduction (a multibody
-/// quarantined beside a hook-flagged ground and an impulse joint) has not tripped it.
+/// (`reliable_sleep`), with the repair monitor: in a debug build Rapier's island
+/// manager asserted ("assertion failed: member(link.body1) || member(link.body2)",
+/// `island_manager/persistent.rs`) in the layer's step. Found by
+/// `speedups_reliable_sleep`'s long run in the test profile (debug assertions on),
+/// shrunk by the runner to these 20 operations. The cause: the multibody explodes, and
+/// a body beside it ends a step with non-finite velocities and its collider
+/// quarantined by Rapier, its touching pair with a parentless collider still in the
+/// narrow phase. Plain Rapier quarantines that body at the end of the next step. The
+/// repair monitor wrote to it in the pre-step (giving back its soft-CCD prediction),
+/// which flags it modified: Rapier then quarantined it at the start of the step,
+/// dropped it from its island, and its island check found the pair's link with
+/// neither body a member. The layer now leaves a body whose pose or velocity is not
+/// finite to Rapier (`finite_body_mut`), and gives the prediction back once it can.
+/// In a release build the assertion is compiled out: run it in the test profile.
 #[test]
-#[ignore = "bug: in debug builds, Rapier's islands assert after its quarantine disables a multibody that had a held body"]
-fn bug_a_held_body_in_a_multibody_trips_no_rapier_assertion() {
+fn fixed_a_write_to_a_body_with_non_finite_velocities_trips_no_rapier_assertion() {
     use harness::Preset;
     let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
     let ops = [
