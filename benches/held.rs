@@ -48,7 +48,8 @@
 //!
 //! `--phases N` prints instead each scene's `N` slowest held steps, each split into
 //! the layer's pre-step, Rapier's step and the analysis, with what the pre-step
-//! applied and stock's step beside it: where a spike comes from.
+//! applied and stock's step beside it: where a spike comes from (with `--hit`, the
+//! ball is thrown as above).
 //!
 //! ```text
 //! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
@@ -477,9 +478,9 @@ fn main() {
     if let Some(at) = args.hit {
         let alone = std::env::var("RCG_HELD_ALONE").is_ok();
         let bad = chosen.iter().find(|s| !hit::applies_to(s));
-        if at >= args.steps - args.tail || args.phases.is_some() || alone || bad.is_some() {
+        if at >= args.steps - args.tail || alone || bad.is_some() {
             eprintln!(
-                "held: --hit STEP needs STEP < --steps − --tail, the bins (mixed, spheres) only, and neither --phases nor RCG_HELD_ALONE"
+                "held: --hit STEP needs STEP < --steps − --tail, the bins (mixed, spheres) only, and not RCG_HELD_ALONE"
             );
             std::process::exit(2);
         }
@@ -495,12 +496,14 @@ fn main() {
                     unreachable!("scenes checked above");
                 };
                 println!("{scene}, {} steps:", args.steps);
+                let hit = args.hit.map(|at| hit::Hit::new(at, &stock));
                 phases::run(
                     &mut stock,
                     &mut held,
                     &mut held_layer(&args),
                     args.steps,
                     top,
+                    hit,
                 );
             }
         }

@@ -53,22 +53,25 @@ pub enum Error {
     ///
     /// A set is another world's when both say so: its storage is elsewhere, or its
     /// count differs, and the first such body (collider) has its list (shape)
-    /// elsewhere. When the set holds none that the layer has read, the storage alone
-    /// decides (the analysed count stored elsewhere: another world). So:
+    /// elsewhere. When the set holds none that the layer has read, nothing tells and
+    /// the set answers as the analysed world's. So:
     /// - the same world moved, or edited since the last step (bodies and colliders
     ///   inserted or removed, its storage grown), answers: a body inserted since
     ///   answers empty, a removed one `UnknownBody`;
     /// - another world, or a copy of its body set, is found when one of its first eight
-    ///   bodies with colliders has the handle of a body the layer read, or else when it
-    ///   holds as many bodies as the analysed world;
+    ///   bodies with colliders has the handle of a body the layer read (so a world
+    ///   built as the analysed one was is found; one sharing none of its handles
+    ///   answers, for bodies the layer has not seen, as a world edited since);
     /// - a collider set alone (`sensor_contents`) is told by its shapes: a copy made
     ///   with `clone`, or another world whose colliders were built from the same
     ///   `SharedShape`, is not told from the analysed world's (with its body set, as in
     ///   the queries taking a world, the bodies tell);
     /// - the same world may be taken for another until the next step when, since the
     ///   last step, both its storage moved (grown past its capacity, or its first
-    ///   element removed) and the first body the layer read there gained colliders
-    ///   (or, for a collider set, the first collider had its shape replaced);
+    ///   element removed) and the first body the layer read there has its collider
+    ///   list elsewhere at the length the layer read (colliders attached past its
+    ///   capacity, then as many removed), or, for a collider set, the first collider
+    ///   had its shape replaced;
     /// - before the first step, and after a restore until the next step, nothing is
     ///   compared (nothing analysed, or addresses of another process).
     ForeignWorld,

@@ -299,6 +299,46 @@ fn a_world_that_grew_since_the_last_step_still_answers() {
     assert!(matches!(layer.validate(&a), Err(Error::Invariant(_))));
 }
 
+/// The same world edited until no body the layer read is left (the bodies it read
+/// removed, Rapier's storage grown and moved, as many bodies as before) still answers:
+/// with nothing to compare, the check takes the set for the analysed one.
+#[test]
+fn the_same_world_edited_until_nothing_read_remains_still_answers() {
+    let (mut layer, mut a, h) = settled(30);
+    let count = a.bodies.len();
+    let first = |w: &PhysicsWorld| w.bodies.iter().next().map(|(_, b)| b as *const _ as usize);
+    let at_first = first(&a);
+    a.remove_body(h.ball);
+    a.remove_body(h.ground);
+    let added: Vec<RigidBodyHandle> = (0..200)
+        .map(|i| ball_at(&mut a, [-4.0 + 0.04 * i as Real, 4.0, 3.0], 0.1).0)
+        .collect();
+    for &b in &added[..added.len() - count] {
+        a.remove_body(b);
+    }
+    assert_eq!(a.bodies.len(), count);
+    assert_ne!(first(&a), at_first, "Rapier's body storage moved");
+    let (one, two) = (added[added.len() - 2], added[added.len() - 1]);
+    assert_eq!(layer.touching_body(&a.bodies, one), Ok(vec![]));
+    assert_eq!(
+        layer.touching_body(&a.bodies, h.ball),
+        Err(Error::UnknownBody(h.ball))
+    );
+    assert_eq!(
+        layer.logic_mut().set_body_disabled(&a.bodies, two, true),
+        Err(Error::UnseenBody(two))
+    );
+    layer.step(&mut a);
+    assert_eq!(
+        layer.logic_mut().set_body_disabled(&a.bodies, two, true),
+        Ok(())
+    );
+    // A copy of it, whose bodies have the handles the layer read, is still told apart.
+    let copy = a.bodies.clone();
+    assert_eq!(layer.touching_body(&copy, one), Err(Error::ForeignWorld));
+    assert!(layer.touching_body(&a.bodies, one).is_ok());
+}
+
 /// Before its first step a layer has analysed nothing: no world to refuse, and the
 /// documented empty answers for bodies it has not seen.
 #[test]

@@ -173,7 +173,13 @@
 //!   (`limit_an_unseen_step_with_a_new_joint_to_a_passive_body_does_not_panic`:
 //!   Rapier panics), or a multibody holds a disabled body
 //!   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`), or
-//!   the layer has rules (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`);
+//!   the layer has rules (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`),
+//!   or, under the speed-ups, no dynamic body is awake
+//!   (`limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`);
+//! - under the speed-ups, no collider is moved onto a multibody member
+//!   (`bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics`);
+//! - the twin is dropped when a second layer detaches
+//!   (`bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories`);
 //! - the twin gets the layer's own `COLLISION_EVENTS` writes, at the same time
 //!   (`limit_flags_added_after_an_unseen_step_change_no_trajectory`);
 //! - the second layer gets a full sync when the first changed a sensor's collision

@@ -9,6 +9,11 @@
 
 mod common;
 
+/// The fuzz harness (`tests/common/fuzz/`), for the tests that replay the arena.
+#[path = "common/fuzz/mod.rs"]
+#[allow(dead_code)]
+mod harness;
+
 use rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, WorldView};
 
@@ -258,4 +263,70 @@ fn fixed_a_sleeping_body_woken_and_turned_fixed_between_steps_is_read_after_a_fu
         .sensor_contents(&world.colliders, sensor)
         .unwrap()
         .is_empty());
+}
+
+/// Two balls, a step; a collider moved off a ball, a ball inserted, two bodies
+/// removed, a ball inserted: the body set has the count the layer last analysed, its
+/// first body elsewhere, and no body the layer read with its collider list where it
+/// was, so the world check took the user's own world for another and
+/// `set_body_disabled` failed with `ForeignWorld`. With nothing to compare, the world
+/// now answers as the analysed one. Found by a long run with another seed
+/// (`PROPTEST_RNG_SEED=11`), shrunk.
+#[test]
+fn fixed_the_same_world_edited_until_nothing_read_remains_is_not_foreign() {
+    let ball = |x: i8, y: u8, z: i8, r: u8| harness::Op::Ball { x, y, z, r };
+    use harness::Op;
+    let ops = [
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::Step(1),
+        Op::SetParent(94, None),
+        ball(0, 0, 0, 0),
+        Op::RemoveBody(60),
+        Op::RemoveBody(223),
+        ball(0, 0, 0, 0),
+        Op::Passive(87, false),
+    ];
+    harness::run_in(harness::Config::Touching, &ops, true).unwrap();
+}
+
+/// Sensors on the floor body, balls, a fixed body; after a step, a ball and a box
+/// inserted while a body with as many colliders is removed, under touching tracking:
+/// the collider count the pre-step compares did not change, so the new colliders did
+/// not get the layer's `COLLISION_EVENTS` flag, and the ball and box touching later
+/// sent no event ("Rapier pair of nodes 1–11 has no edge"). The colliders of new
+/// nodes that lack the flag are now read at once and flagged at the next pre-step.
+/// Found with an unseen step at the end by a long run with another seed
+/// (`PROPTEST_RNG_SEED=12`), shrunk, then without it.
+#[test]
+fn fixed_colliders_inserted_while_as_many_are_removed_are_flagged() {
+    use harness::Op;
+    let ball = |x: i8, y: u8, z: i8, r: u8| Op::Ball { x, y, z, r };
+    let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
+    let sensor = |on: Option<u8>| Op::Sensor {
+        on,
+        x: 0,
+        y: 0,
+        z: 0,
+    };
+    let ops = [
+        sensor(Some(0)),
+        Op::SetParent(1, Some(0)),
+        sensor(Some(0)),
+        ball(0, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        Op::FixedBody { x: 1, y: 0, z: -1 },
+        Op::Step(1),
+        Op::ExtraCollider { on: 37, x: 0 },
+        sensor(None),
+        ball(0, 0, -2, 0),
+        cube(0, 5, 1, 2),
+        Op::RemoveBody(138),
+        Op::Joint {
+            a: 194,
+            b: 137,
+            revolute: true,
+        },
+    ];
+    harness::run_unsteered(harness::Config::Touching, &ops, true).unwrap();
 }

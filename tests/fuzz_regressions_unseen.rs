@@ -626,3 +626,128 @@ fn fixed_an_unseen_step_is_noticed_when_a_sampled_body_is_disabled() {
     ];
     run_unsteered(Config::SpeedUps(Preset::PapersFastest), &ops, true).unwrap();
 }
+
+/// A pile with kinematic bodies and a sensor, pushed, then steps of Rapier alone
+/// under `SpeedUps::contact_graph()`: one sampled body drifted at 6e-10 m/s, which
+/// moves no pose bit, and the witness, which asked every sampled moving body to have
+/// changed, saw no missed step ("Rapier pair of nodes 1–9 has no edge"). A body counts
+/// as moving now only when its velocity changes its pose within a step. Found by a
+/// long run with another seed (`PROPTEST_RNG_SEED=11`), shrunk.
+#[test]
+fn fixed_an_unseen_step_is_noticed_beside_a_body_drifting_too_slowly_to_move() {
+    use harness::{Call, Preset, Who};
+    let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
+    let kin = |x: i8, y: u8, z: i8| Op::Kinematic {
+        x,
+        y,
+        z,
+        vx: 0,
+        vz: 0,
+        velocity_based: false,
+    };
+    let ops = [
+        ball(-1, 0, 0, 0),
+        ball(0, 0, 0, 0),
+        kin(0, 0, 0),
+        ball(0, 0, 0, 1),
+        Op::Static { x: 0, y: 5, z: 2 },
+        Op::Sensor {
+            on: None,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        cube(0, 0, 0, 0),
+        ball(-1, 0, 0, 0),
+        kin(0, 3, -1),
+        ball(0, 4, 3, 3),
+        Op::Step(20),
+        ball(1, 2, 0, 1),
+        Op::User(Who::Any(24), Call::Impulse { x: 0, y: 0, z: 1 }),
+        Op::Step(34),
+        Op::Sensor {
+            on: Some(133),
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        Op::Unseen(3),
+    ];
+    run_unsteered(Config::SpeedUps(Preset::ContactGraph), &ops, true).unwrap();
+}
+
+/// One ball asleep under `SpeedUps::default()`, teleported by the user (which wakes
+/// it), then two steps of Rapier alone: Rapier wakes it, moves it, and puts it back to
+/// sleep two steps later (the speed-ups make it sleep-eligible at once), so nothing
+/// the witness can look at changed (no dynamic body awake before or after) and the
+/// ball's old contact stays in the graph ("edge e0v0 is proximate without a Rapier
+/// pair"). A documented limit (`docs/ARCHITECTURE.md`, "What the witness cannot
+/// see"); the fuzzer steers clear of it. Found by a long run with another seed
+/// (`PROPTEST_RNG_SEED=11`), shrunk.
+#[test]
+#[ignore = "limit: under the speed-ups' sleep, a body woken and asleep again within steps the layer did not see leaves no trace"]
+fn limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups() {
+    use harness::Preset;
+    let ops = [
+        ball(0, 0, 0, 0),
+        Op::Step(20),
+        Op::Step(20),
+        Op::Teleport {
+            body: 137,
+            x: 0,
+            y: 0,
+            z: 0,
+        },
+        Op::Unseen(2),
+    ];
+    run_unsteered(Config::SpeedUps(Preset::Default), &ops, true).unwrap();
+}
+
+/// A second layer attached, stepping in turn with the first, then detached (taking
+/// off the `COLLISION_EVENTS` flags it added), a body made fixed, solver groups set
+/// and a multibody joined, under touching tracking: the world's trajectories differ
+/// from the plain twin's in their last bits at the next steps. The twin is given
+/// the layers' flag writes (as `step_twin` says) but in the collider order, not the
+/// order the layers wrote them, and Rapier handles pairs in the order of the writes:
+/// the likely cause, not yet shown. Open; the fuzzer drops the twin when a second
+/// layer detaches. Found by the `touching` configuration's long run with
+/// `PROPTEST_RNG_SEED=11`, shrunk.
+#[test]
+#[ignore = "bug: after a second layer detaches, trajectories differ from the plain twin in their last bits"]
+fn bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
+    use harness::{Call, Second, Ty, Who};
+    let ops = [
+        Op::User(
+            Who::Any(0),
+            Call::Remove {
+                keep_colliders: true,
+            },
+        ),
+        ball(0, 0, 0, 2),
+        Op::Second(Second::Attach),
+        Op::Second(Second::Step(4)),
+        Op::Step(4),
+        Op::Cube {
+            x: 0,
+            y: 0,
+            z: 0,
+            r: 0,
+        },
+        Op::Second(Second::Step(3)),
+        Op::Cube {
+            x: 2,
+            y: 1,
+            z: 1,
+            r: 3,
+        },
+        ball(2, 0, 0, 0),
+        ball(1, 0, -3, 0),
+        Op::Step(1),
+        Op::SetType(110, Ty::Fixed),
+        Op::Second(Second::Detach),
+        Op::SolverGroups(121, 0),
+        Op::Multibody { a: 14, b: 67 },
+    ];
+    // Fails: "trajectories differ from the plain Rapier twin".
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}

@@ -1,8 +1,10 @@
 //! `--phases N`: where the held world's slowest steps go. The held world is stepped
 //! by hand (the layer's pre-step, Rapier's step with the layer's hooks and event
 //! handler, the analysis), each call timed in thread CPU time (wall clock under `parallel`), in lockstep with the
-//! stock world (alternating which goes first, as the table's run does).
+//! stock world (alternating which goes first, as the table's run does). With
+//! `--hit STEP` the ball is thrown into both worlds before that step (untimed).
 
+use super::hit::Hit;
 use super::StepClock;
 use rapier3d::prelude::PhysicsWorld;
 use rapier_contact_graph::{ContactLayer, WorldMut, WorldView};
@@ -32,16 +34,21 @@ impl Split {
 }
 
 /// Steps `stock` and `held` (with `layer`) `steps` times in lockstep and prints the
-/// `top` slowest held steps, split, and stock's `top` slowest steps.
+/// `top` slowest held steps, split, and stock's `top` slowest steps; `hit` throws its
+/// ball into both before its step.
 pub fn run(
     stock: &mut PhysicsWorld,
     held: &mut PhysicsWorld,
     layer: &mut ContactLayer,
     steps: usize,
     top: usize,
+    mut hit: Option<Hit>,
 ) {
     let mut splits = Vec::with_capacity(steps);
     for step in 0..steps {
+        if let Some(hit) = hit.as_mut() {
+            hit.before_step(step, [&mut *stock, &mut *held]);
+        }
         let time_stock = |w: &mut PhysicsWorld| {
             let t = StepClock::now();
             w.step();

@@ -52,10 +52,10 @@ impl Coherence {
     ///   own, which neither a move of the world nor the growth of Rapier's storage
     ///   moves, and which another world, or a copy, has elsewhere).
     ///
-    /// When no body can be looked at, the storage decides: a set with the analysed
-    /// count stored elsewhere is another world's, one with another count is the same
-    /// world edited. `true` before the first update and after a restore (nothing to
-    /// compare). O(1): a few slots from the start of the set.
+    /// A list of another length is looked at only for staying where it was (a grown
+    /// list may have moved). When no body can be looked at, nothing tells: `true`, as
+    /// before the first update and after a restore (nothing to compare). O(1): a few
+    /// slots from the start of the set.
     pub(crate) fn bodies_match(&self, graph: &ContactGraph, bodies: &RigidBodySet) -> bool {
         let Some((first_body, _)) = *self.world_mark else {
             return true;
@@ -76,9 +76,19 @@ impl Coherence {
             .find_map(|(h, rb)| {
                 let read = graph.node(graph.node_of_body(h)?)?.storage.list;
                 let now = Storage::list_of(rb);
-                (read.0 != 0 && read.1 == now.1).then_some(read.0 == now.0)
+                if read.0 == 0 {
+                    None
+                } else if read.1 == now.1 {
+                    Some(read.0 == now.0)
+                } else {
+                    // A list that changed length may have moved (grown): only a list
+                    // still where it was tells.
+                    (read.0 == now.0).then_some(true)
+                }
             });
-        witness.unwrap_or(!counted)
+        // Nothing to compare: the same world edited (what it read removed, or its
+        // colliders moved) cannot be told from another; it answers.
+        witness.unwrap_or(true)
     }
 
     /// [`Self::bodies_match`] for a collider set: the first colliders of the set (up to
@@ -107,7 +117,7 @@ impl Coherence {
             let (named, shape) = graph.node(owner)?.storage.shape;
             (named == Some(h) && shape != 0).then(|| shape == Storage::shape_of(c))
         });
-        witness.unwrap_or(!counted)
+        witness.unwrap_or(true)
     }
 
     /// Whether the world's body and collider sets both can be the analysed world's

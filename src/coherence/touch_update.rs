@@ -66,6 +66,40 @@ impl Coherence {
         }
     }
 
+    /// The colliders of the nodes created at this update that lack the layer's
+    /// `COLLISION_EVENTS` flag. O(created nodes' colliders).
+    pub(super) fn unflagged_of_created(
+        &self,
+        graph: &ContactGraph,
+        view: &WorldView,
+    ) -> Vec<ColliderHandle> {
+        let lacks = |c: &ColliderHandle| {
+            view.colliders
+                .get(*c)
+                .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS))
+        };
+        let mut out = Vec::new();
+        for &n in &self.created {
+            match graph.node(n).map(|n| n.source) {
+                Some(NodeSource::Body(h)) => {
+                    if let Some(rb) = view.bodies.get(h) {
+                        out.extend(rb.colliders().iter().copied().filter(lacks));
+                    }
+                }
+                Some(NodeSource::StaticCollider(c) | NodeSource::Sensor(c)) if lacks(&c) => {
+                    out.push(c);
+                }
+                _ => {}
+            }
+        }
+        out
+    }
+
+    /// Makes the next [`Self::sync_touch_flags`] look at every collider. O(1).
+    pub(super) fn force_touch_flags(&mut self) {
+        self.touch_flag_colliders = usize::MAX;
+    }
+
     /// Applies the step's touch transitions to the physical edges (touching tracking).
     pub(super) fn apply_touch_events(
         &mut self,

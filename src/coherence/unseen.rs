@@ -24,8 +24,9 @@ pub(crate) const SAMPLE: usize = 8;
 /// whether Rapier stepped in between.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct StepWitness {
-    /// Sampled bodies: handle, pose bits, velocity bits, sleep timer.
-    sample: Vec<(RigidBodyHandle, [u32; 7], [u32; 6], f32)>,
+    /// Sampled bodies: handle, pose bits, velocity bits, sleep timer, and whether its
+    /// velocity moves its pose within a step ([`moves_in_a_step`]).
+    sample: Vec<(RigidBodyHandle, [u32; 7], [u32; 6], f32, bool)>,
     /// With no dynamic body to sample, a few other bodies of the active set
     /// (kinematic, or fixed by the user or the speed-ups): handle and pose bits.
     others: Vec<(RigidBodyHandle, [u32; 7])>,
@@ -39,7 +40,7 @@ impl StepWitness {
     /// Records the first [`SAMPLE`] dynamic bodies of Rapier's active set as they are
     /// after the step just analysed (with none, its first other bodies' poses).
     /// O(SAMPLE + the kinematic and fixed bodies before them in the active set).
-    pub(crate) fn record(&mut self, bodies: &RigidBodySet, islands: &IslandManager) {
+    pub(crate) fn record(&mut self, bodies: &RigidBodySet, islands: &IslandManager, dt: f32) {
         self.sample.clear();
         // Dynamic bodies only: a kinematic body at rest (or driven by less than a
         // pose's resolution) shows no step.
@@ -52,6 +53,7 @@ impl StepWitness {
                 pose_bits(rb.position()),
                 vel_bits(rb),
                 rb.activation().time_since_can_sleep,
+                moves_in_a_step(rb, dt),
             ));
         }
         self.others.clear();
@@ -66,7 +68,8 @@ impl StepWitness {
     }
 
     /// Whether Rapier stepped since [`Self::record`], as far as the sample tells: a
-    /// sampled body's sleep timer grew, or every sampled body that was moving (and is
+    /// sampled body's sleep timer grew, or every sampled body that was moving fast
+    /// enough to change its pose in a step (and is
     /// still in the world and dynamic) moved or changed velocity, or, none moving,
     /// every one still there did, or (none left) a body of the active set that was not
     /// dynamic is dynamic now and moved, or the active set changed size. Bodies
@@ -81,7 +84,7 @@ impl StepWitness {
         }
         let (mut live, mut changed) = (0, 0);
         let (mut moving, mut moving_changed) = (0, 0);
-        for &(h, pose, vel, timer) in &self.sample {
+        for &(h, pose, vel, timer, moves) in &self.sample {
             // A body removed, turned kinematic or fixed, or disabled by the user (a
             // step does not move it) tells nothing.
             let Some(rb) = bodies
@@ -96,7 +99,7 @@ impl StepWitness {
             }
             let now = pose_bits(rb.position()) != pose || vel_bits(rb) != vel;
             changed += usize::from(now);
-            if vel.iter().any(|&v| f32::from_bits(v) != 0.0) {
+            if moves {
                 moving += 1;
                 moving_changed += usize::from(now);
             }
@@ -115,6 +118,21 @@ impl StepWitness {
             fell || islands.num_active_bodies() != self.active
         }
     }
+}
+
+/// Whether a step of `dt` at the body's velocity changes its pose: a translation by
+/// more than two units in the last place of its position, or a turn by more than two
+/// units in the last place of 1 (a rotation's scale); a body drifting at 1e-9 m/s
+/// keeps its pose bit for bit. A `dt` that is not positive and finite counts any
+/// velocity. O(1).
+fn moves_in_a_step(rb: &rapier3d::prelude::RigidBody, dt: f32) -> bool {
+    let (l, a) = (rb.linvel(), rb.angvel());
+    if !(dt.is_finite() && dt > 0.0) {
+        return l != rapier3d::math::Vector::ZERO || a != rapier3d::math::Vector::ZERO;
+    }
+    let resolution = 2.0 * f32::EPSILON;
+    let scale = rb.translation().abs().max_element().max(1.0);
+    l.abs().max_element() * dt > resolution * scale || a.abs().max_element() * dt > resolution
 }
 
 /// A body's velocities as bits. O(1).

@@ -96,7 +96,7 @@ impl Coherence {
             unseen_step: std::mem::take(&mut self.unseen_step),
             ..WalkCounters::default()
         };
-        self.witness.record(view.bodies, view.islands);
+        self.witness.record(view.bodies, view.islands, view.dt);
         (tracking, switched)
     }
 
@@ -284,7 +284,15 @@ impl Coherence {
                     .is_some_and(|n| matches!(n.source, NodeSource::StaticCollider(_)))
             });
             self.stale.extend(created);
-            let late = std::mem::take(&mut self.touch_rescan);
+            let mut late = std::mem::take(&mut self.touch_rescan);
+            // Colliders of new nodes that lack the layer's flag (inserted while as many
+            // were removed, so the count the pre-step compares did not change): their
+            // touching pairs are read now, and the next pre-step flags every collider.
+            let unflagged = self.unflagged_of_created(graph, view);
+            if !unflagged.is_empty() {
+                self.force_touch_flags();
+                late.extend(unflagged);
+            }
             if full {
                 self.stale.clear();
                 self.rescan_touching(graph, view, screen, events, &[], true);

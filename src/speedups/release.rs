@@ -107,6 +107,10 @@ impl SpeedUpState {
                 continue;
             }
             let speed = rb.linvel().length() + rb.angvel().length() * body_radius(view, rb);
+            // A non-finite state is Rapier's quarantine's to handle: no reach to take.
+            if !speed.is_finite() {
+                continue;
+            }
             let budget = if simulated && self.config.release_speed > 0.0 {
                 REACH_MASS_MARGIN * rb.mass() * speed / self.config.release_speed
             } else {
@@ -115,7 +119,7 @@ impl SpeedUpState {
             let from = seeds.len();
             match view.broad_phase {
                 Some(bp) => {
-                    let reach = speed * view.dt * REACH_STEPS;
+                    let reach = (speed * view.dt * REACH_STEPS).max(0.0);
                     let filter = QueryFilter::from(
                         QueryFilterFlags::ONLY_FIXED | QueryFilterFlags::EXCLUDE_SENSORS,
                     );
