@@ -52,9 +52,10 @@ pub enum Error {
     ///   grows, and another world, or a copy, has its own.
     ///
     /// A set is another world's when both say so: its storage is elsewhere, or its
-    /// count differs, and the first such body (collider) has its list (shape)
-    /// elsewhere. When the set holds none that the layer has read, nothing tells and
-    /// the set answers as the analysed world's. So:
+    /// count differs, and none of those bodies (colliders) has its list (shape) where
+    /// the layer read it while one at the length read has it elsewhere. When the set
+    /// holds none that the layer has read, nothing tells and the set answers as the
+    /// analysed world's. So:
     /// - the same world moved, or edited since the last step (bodies and colliders
     ///   inserted or removed, its storage grown), answers: a body inserted since
     ///   answers empty, a removed one `UnknownBody`;
@@ -68,9 +69,9 @@ pub enum Error {
     ///   the queries taking a world, the bodies tell);
     /// - the same world may be taken for another until the next step when, since the
     ///   last step, both its storage moved (grown past its capacity, or its first
-    ///   element removed) and the first body the layer read there has its collider
-    ///   list elsewhere at the length the layer read (colliders attached past its
-    ///   capacity, then as many removed), or, for a collider set, the first collider
+    ///   element removed) and every body the layer read among the first eight with
+    ///   colliders has its collider list elsewhere (colliders attached past its
+    ///   capacity, then as many removed), or, for a collider set, every such collider
     ///   had its shape replaced;
     /// - before the first step, and after a restore until the next step, nothing is
     ///   compared (nothing analysed, or addresses of another process).

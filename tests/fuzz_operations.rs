@@ -174,9 +174,10 @@
 //!   Rapier panics), or a multibody holds a disabled body
 //!   (`limit_an_unseen_step_with_a_passive_body_in_a_multibody_does_not_panic`), or
 //!   the layer has rules (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`),
-//!   or, under the speed-ups, no dynamic body is awake
-//!   (`limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`);
-//! - under the speed-ups, no collider is moved onto a multibody member
+//!   or, under the speed-ups, no awake dynamic body moves
+//!   (`limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups`,
+//!   `limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`);
+//! - under the speed-ups, no collider is moved onto or attached to a multibody member
 //!   (`bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics`);
 //! - the twin is dropped when a second layer detaches
 //!   (`bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories`);
@@ -197,8 +198,10 @@
 //! multibody links stay dynamic and get one parent (a rejected insertion corrupts
 //! Rapier's bookkeeping); no multibody member is made active or enabled (Rapier may
 //! have quarantined it), nor disabled by the user; no joint or multibody joint to a
-//! body disabled by Rapier or by the user, and no user disable of a body jointed to a
-//! disabled one (plain Rapier panics on a joint between two disabled bodies; the
+//! body disabled by Rapier or by the user, no user disable of a body jointed to a
+//! disabled one, and no body jointed to a disabled one made fixed or kinematic
+//! (plain Rapier panics on a joint between two disabled bodies, and on one between a
+//! disabled and a fixed body; the
 //! layer guards only the bodies it made passive). `set_body_disabled(true)` is called
 //! on any body: the layer refuses dynamic multibody members (`Error::Unsupported`),
 //! and the harness follows `refusals()`.

@@ -330,3 +330,58 @@ fn fixed_colliders_inserted_while_as_many_are_removed_are_flagged() {
     ];
     harness::run_unsteered(harness::Config::Touching, &ops, true).unwrap();
 }
+
+/// Colliders attached to a body past its list's capacity and then as many moved off
+/// (`set_parent`), bodies inserted: the body the layer read first has its collider
+/// list elsewhere at the length the layer read, and the world check, which asked the
+/// first such body only, took the user's own world for another (`set_body_disabled`
+/// failed with `ForeignWorld`). One body of the first eight whose list is where the
+/// layer read it now wins. Found by a long run with `PROPTEST_RNG_SEED=19`, shrunk.
+#[test]
+fn fixed_a_body_whose_collider_list_moved_does_not_make_the_world_foreign() {
+    use harness::Op;
+    let ops = [
+        Op::Static { x: 0, y: 2, z: 0 },
+        Op::Sensor {
+            on: Some(50),
+            x: -4,
+            y: 0,
+            z: -2,
+        },
+        Op::ExtraCollider { on: 233, x: -1 },
+        Op::SetParent(140, Some(251)),
+        Op::Kinematic {
+            x: 4,
+            y: 5,
+            z: -3,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        Op::Ball {
+            x: -2,
+            y: 4,
+            z: -3,
+            r: 2,
+        },
+        Op::Step(2),
+        Op::ExtraCollider { on: 36, x: 0 },
+        Op::Kinematic {
+            x: -3,
+            y: 1,
+            z: -1,
+            vx: -1,
+            vz: -1,
+            velocity_based: true,
+        },
+        Op::Ball {
+            x: -2,
+            y: 0,
+            z: 3,
+            r: 1,
+        },
+        Op::SetParent(53, None),
+        Op::Passive(187, false),
+    ];
+    harness::run_in(harness::Config::Proximity, &ops, true).unwrap();
+}

@@ -703,6 +703,51 @@ fn limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups() {
     run_unsteered(Config::SpeedUps(Preset::Default), &ops, true).unwrap();
 }
 
+/// A ball joined by a multibody joint to a fixed body, a step, then a step of Rapier
+/// alone, under the speed-ups: the link rests exactly (its root is fixed) and no
+/// sleep timer grows under their sleep, so the witness sees nothing, and the ball's
+/// contact with the floor made in the missed step has no edge ("Rapier pair of nodes
+/// 0–7 has no edge"). The documented limit of a step in which every sampled body
+/// rests exactly (`docs/ARCHITECTURE.md`, "What the witness cannot see"); the fuzzer
+/// steers clear of it. Found by a long run with `PROPTEST_RNG_SEED=16`, shrunk.
+#[test]
+#[ignore = "limit: under the speed-ups, a step in which every sampled body rests exactly goes unnoticed"]
+fn limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups() {
+    use harness::Preset;
+    let ops = [
+        Op::FixedBody { x: 0, y: 0, z: 0 },
+        ball(0, 0, -1, 0),
+        Op::Multibody { a: 76, b: 203 },
+        Op::Step(1),
+        Op::Unseen(1),
+    ];
+    run_unsteered(Config::SpeedUps(Preset::ContactGraph), &ops, true).unwrap();
+}
+
+/// A box joined by a multibody joint to the fixed floor, its collider turned into a
+/// sensor, then a step of Rapier alone, under touching tracking: the link rests
+/// exactly and its sleep timer does not grow, so the witness sees nothing, and the
+/// contact Rapier dropped in the missed step keeps its edge ("edge e1v0 is proximate
+/// without a Rapier pair"). The same documented limit as above; the fuzzer steers
+/// clear of it. Found by a long run with `PROPTEST_RNG_SEED=19`, shrunk.
+#[test]
+#[ignore = "limit: a step in which every sampled body rests exactly goes unnoticed (a multibody link)"]
+fn limit_an_unseen_step_where_a_multibody_link_rests_exactly() {
+    let ops = [
+        Op::Cube {
+            x: 0,
+            y: 0,
+            z: 0,
+            r: 1,
+        },
+        Op::Multibody { a: 104, b: 49 },
+        Op::Step(4),
+        Op::ToggleSensor(48),
+        Op::Unseen(1),
+    ];
+    run_unsteered(Config::Touching, &ops, true).unwrap();
+}
+
 /// A second layer attached, stepping in turn with the first, then detached (taking
 /// off the `COLLISION_EVENTS` flags it added), a body made fixed, solver groups set
 /// and a multibody joined, under touching tracking: the world's trajectories differ

@@ -47,15 +47,16 @@ impl Coherence {
     ///   where that world's was (the mark [`Coherence::same_world`] takes at every
     ///   update; the same world moved keeps it);
     /// - the first bodies of the set (up to [`WORLD_WITNESSES`]) that the layer has
-    ///   read with colliders: the first whose collider list has the length the layer
-    ///   read must have it where the layer read it (a list is an allocation of its
-    ///   own, which neither a move of the world nor the growth of Rapier's storage
-    ///   moves, and which another world, or a copy, has elsewhere).
+    ///   read with colliders: one whose collider list is where the layer read it says
+    ///   "the same world"; otherwise one whose list has the length the layer read but
+    ///   is elsewhere says "another" (a list is an allocation of its own, which
+    ///   neither a move of the world nor the growth of Rapier's storage moves, and
+    ///   which another world, or a copy, has elsewhere; a list of another length may
+    ///   have moved when it grew, and tells nothing).
     ///
-    /// A list of another length is looked at only for staying where it was (a grown
-    /// list may have moved). When no body can be looked at, nothing tells: `true`, as
-    /// before the first update and after a restore (nothing to compare). O(1): a few
-    /// slots from the start of the set.
+    /// When no body can be looked at, nothing tells: `true`, as before the first
+    /// update and after a restore (nothing to compare). O(1): a few slots from the
+    /// start of the set.
     pub(crate) fn bodies_match(&self, graph: &ContactGraph, bodies: &RigidBodySet) -> bool {
         let Some((first_body, _)) = *self.world_mark else {
             return true;
@@ -69,26 +70,32 @@ impl Coherence {
         if counted && first == first_body {
             return true;
         }
-        let witness = bodies
+        // Each witness a body the layer read: its list where it was tells "the same
+        // world" (whatever its length); at the length read but elsewhere, "another"
+        // (a list that changed length may have moved when it grew). One "same" wins:
+        // the same world edited may have moved a few lists (colliders attached past
+        // their capacity, then as many removed), a copy has moved them all.
+        let mut elsewhere = false;
+        let witnesses = bodies
             .iter()
             .filter(|(_, rb)| !rb.colliders().is_empty())
-            .take(WORLD_WITNESSES)
-            .find_map(|(h, rb)| {
-                let read = graph.node(graph.node_of_body(h)?)?.storage.list;
-                let now = Storage::list_of(rb);
-                if read.0 == 0 {
-                    None
-                } else if read.1 == now.1 {
-                    Some(read.0 == now.0)
-                } else {
-                    // A list that changed length may have moved (grown): only a list
-                    // still where it was tells.
-                    (read.0 == now.0).then_some(true)
-                }
-            });
+            .take(WORLD_WITNESSES);
+        for (h, rb) in witnesses {
+            let Some(node) = graph.node_of_body(h).and_then(|n| graph.node(n)) else {
+                continue;
+            };
+            let (read, now) = (node.storage.list, Storage::list_of(rb));
+            if read.0 == 0 {
+                continue;
+            }
+            if read.0 == now.0 {
+                return true;
+            }
+            elsewhere |= read.1 == now.1;
+        }
         // Nothing to compare: the same world edited (what it read removed, or its
         // colliders moved) cannot be told from another; it answers.
-        witness.unwrap_or(true)
+        !elsewhere
     }
 
     /// [`Self::bodies_match`] for a collider set: the first colliders of the set (up to
@@ -108,16 +115,27 @@ impl Coherence {
         if counted && first == first_collider {
             return true;
         }
-        let witness = colliders.iter().take(WORLD_WITNESSES).find_map(|(h, c)| {
+        // As for bodies: one shape where the layer read it wins.
+        let mut elsewhere = false;
+        for (h, c) in colliders.iter().take(WORLD_WITNESSES) {
             let owner = match c.parent() {
                 Some(body) => graph.node_of_body(body),
                 None if c.is_sensor() => graph.node_of_sensor(h),
                 None => graph.node_of_static_collider(h),
-            }?;
-            let (named, shape) = graph.node(owner)?.storage.shape;
-            (named == Some(h) && shape != 0).then(|| shape == Storage::shape_of(c))
-        });
-        witness.unwrap_or(true)
+            };
+            let Some((named, shape)) = owner.and_then(|o| graph.node(o)).map(|n| n.storage.shape)
+            else {
+                continue;
+            };
+            if named != Some(h) || shape == 0 {
+                continue;
+            }
+            if shape == Storage::shape_of(c) {
+                return true;
+            }
+            elsewhere = true;
+        }
+        !elsewhere
     }
 
     /// Whether the world's body and collider sets both can be the analysed world's

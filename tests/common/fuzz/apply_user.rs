@@ -173,10 +173,15 @@ impl Harness {
     /// - while the layer has rules: a step without the layer's hooks applies none, and
     ///   where nothing moves the layer does not notice it missed one, a documented
     ///   limit (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`);
-    /// - under the speed-ups, while no dynamic body is awake: their sleep lets Rapier
-    ///   put a body back to sleep two steps after it wakes, so a body the user wakes
-    ///   (a teleport) can wake and sleep within the missed steps, a documented limit
-    ///   (`limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`).
+    /// - under the speed-ups, or with a multibody link awake, while no awake dynamic
+    ///   body moves: no sleep timer grows (nor does a link's)
+    ///   under their sleep, so a step where every sampled body rests exactly shows
+    ///   nothing (a multibody link held still by a fixed root), and their sleep lets
+    ///   Rapier put a body back to sleep two steps after it wakes, so a body the user
+    ///   wakes (a teleport) can wake and sleep within the missed steps, documented
+    ///   limits (`limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups`,
+    ///   `limit_an_unseen_step_where_a_multibody_link_rests_exactly`,
+    ///   `limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`).
     pub(super) fn unseen_avoided(&self) -> bool {
         if !self.steer {
             return false;
@@ -204,20 +209,29 @@ impl Harness {
                 !rb.is_enabled() && self.world.multibody_joints.rigid_body_link(h).is_some()
             })
         };
-        let nothing_awake = || {
-            matches!(self.config, Config::SpeedUps(_))
+        // A multibody link held still by its joints shows no step under any
+        // configuration (its sleep timer does not grow either).
+        let link_at_rest = || {
+            self.world
+                .islands
+                .active_bodies()
+                .any(|h| self.world.multibody_joints.rigid_body_link(h).is_some())
+        };
+        let nothing_moves = || {
+            (matches!(self.config, Config::SpeedUps(_)) || link_at_rest())
                 && !self.world.islands.active_bodies().any(|h| {
-                    self.world
-                        .bodies
-                        .get(h)
-                        .is_some_and(|rb| rb.is_dynamic() && rb.is_enabled())
+                    self.world.bodies.get(h).is_some_and(|rb| {
+                        rb.is_dynamic()
+                            && rb.is_enabled()
+                            && (rb.linvel() != Vector::ZERO || rb.angvel() != Vector::ZERO)
+                    })
                 })
         };
         !self.rules.is_empty()
             || unguarded_joint()
             || fixed_link()
             || disabled_member()
-            || nothing_awake()
+            || nothing_moves()
     }
 
     /// One step of Rapier alone (`PhysicsWorld::step`): the layer does not see it.
