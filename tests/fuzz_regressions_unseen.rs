@@ -796,3 +796,48 @@ fn bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
     // Fails: "trajectories differ from the plain Rapier twin".
     run_unsteered(Config::Touching, &ops, true).unwrap();
 }
+
+/// Bodies settled for 39 steps under `SpeedUps::default()`, one removed, an impulse
+/// joint inserted between two of the others, then two steps of Rapier alone: the
+/// layer's next step does not notice them, and a touching pair made in them has no
+/// edge ("Rapier pair of nodes 9–11 has no edge"). Under touching tracking without
+/// the speed-ups it passes. Not yet explained (the witness's sample, or the joint's
+/// wake); open. The fuzzer takes no unseen step under the speed-ups while the world
+/// has impulse joints. Found by the default seed's long run, shrunk.
+#[test]
+#[ignore = "bug: under the speed-ups, unseen steps after a joint between resting bodies go unnoticed"]
+fn bug_an_unseen_step_after_a_joint_between_resting_bodies_under_the_speed_ups() {
+    use harness::Preset;
+    let ops = [
+        Op::RemoveCollider(248),
+        ball(0, 0, 0, 0),
+        Op::Kinematic {
+            x: 0,
+            y: 0,
+            z: 0,
+            vx: 0,
+            vz: 0,
+            velocity_based: false,
+        },
+        Op::Static { x: 0, y: 0, z: 0 },
+        ball(0, 0, 0, 0),
+        ball(0, 0, 1, 0),
+        Op::RemoveCollider(232),
+        Op::Cube {
+            x: 1,
+            y: 1,
+            z: -2,
+            r: 1,
+        },
+        Op::Step(39),
+        Op::RemoveBody(8),
+        Op::Joint {
+            a: 6,
+            b: 193,
+            revolute: false,
+        },
+        Op::Unseen(2),
+    ];
+    // Fails: "Rapier pair of nodes 9–11 has no edge".
+    run_unsteered(Config::SpeedUps(Preset::Default), &ops, true).unwrap();
+}

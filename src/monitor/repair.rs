@@ -55,7 +55,7 @@ use crate::graph::{ContactGraph, NodeId};
 use crate::groups::Groups;
 use crate::logic::WorldMut;
 use crate::speedups::SpeedUpState;
-use crate::util::rapier::finite_body_mut;
+use crate::util::rapier::live_body_mut;
 use crate::{Error, Result};
 
 /// What the layer's monitor does (see the module docs).
@@ -400,7 +400,7 @@ impl LayerMonitor {
                         if let Some(s) = speedups.as_deref_mut() {
                             s.repair_wake(m, mods);
                         }
-                        if let Some(rb) = finite_body_mut(world.bodies, m) {
+                        if let Some(rb) = live_body_mut(world.bodies, m) {
                             if rb.is_dynamic() {
                                 rb.wake_up(true);
                             }
@@ -424,7 +424,7 @@ impl LayerMonitor {
                 Action::Damp(h, factor) => {
                     self.totals.damped += 1;
                     for (_, m) in group_bodies(graph, groups, h) {
-                        if let Some(rb) = finite_body_mut(world.bodies, m) {
+                        if let Some(rb) = live_body_mut(world.bodies, m) {
                             if rb.is_dynamic() {
                                 let (v, w) = (rb.linvel(), rb.angvel());
                                 rb.set_linvel(v * factor, true);
@@ -456,13 +456,13 @@ impl LayerMonitor {
             // Given back once the body can be written to (or is gone).
             if !world.bodies.contains(h) {
                 self.predicted.remove(&k);
-            } else if let Some(rb) = finite_body_mut(world.bodies, h) {
+            } else if let Some(rb) = live_body_mut(world.bodies, h) {
                 rb.set_soft_ccd_prediction(own);
                 self.predicted.remove(&k);
             }
         }
         for (h, prediction) in fast {
-            if let Some(rb) = finite_body_mut(world.bodies, h) {
+            if let Some(rb) = live_body_mut(world.bodies, h) {
                 let own = self
                     .predicted
                     .entry(h.into_raw_parts())

@@ -26,22 +26,24 @@ pub(crate) fn pose_bits(p: &rapier3d::math::Pose) -> [u32; 7] {
     [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits)
 }
 
-/// The body, to write to, unless its pose or velocity is not finite. Such a body is
-/// Rapier's to quarantine at the end of its step; a write flags it modified, and
-/// Rapier then quarantines it at the start of the next step instead, before its narrow
-/// phase has dropped the body's pairs (Rapier's island checks assert on that in debug
-/// builds). The layer leaves such bodies to Rapier. O(1).
-pub(crate) fn finite_body_mut(
+/// The body, to write to, unless it is disabled or its pose or velocity is not
+/// finite. Such a body is Rapier's quarantine's: a body with non-finite state is
+/// quarantined at the end of Rapier's step, and the disable is processed in the next.
+/// A write in between flags the body modified, and Rapier then handles it before its
+/// narrow phase has dropped the body's pairs (Rapier's island checks assert on that in
+/// debug builds). The layer leaves such bodies alone. O(1).
+pub(crate) fn live_body_mut(
     bodies: &mut rapier3d::dynamics::RigidBodySet,
     h: rapier3d::dynamics::RigidBodyHandle,
 ) -> Option<&mut rapier3d::dynamics::RigidBody> {
     let rb = bodies.get(h)?;
     let p = rb.position();
-    let finite = p.translation.is_finite()
+    let live = rb.is_enabled()
+        && p.translation.is_finite()
         && p.rotation.is_finite()
         && rb.linvel().is_finite()
         && rb.angvel().is_finite();
-    if finite {
+    if live {
         bodies.get_mut(h)
     } else {
         None
