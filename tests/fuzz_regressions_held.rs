@@ -399,28 +399,11 @@ fn fixed_a_body_jointed_to_a_disabled_one_is_not_held() {
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }
 
-/// A pile with a rule, a joint and a multibody joint whose bodies the speed-ups hold
-/// (`reliable_sleep`), with the repair monitor: in a debug build Rapier's island
-/// manager asserted ("assertion failed: member(link.body1) || member(link.body2)",
-/// `island_manager/persistent.rs`) in the layer's step. Found by
-/// `speedups_reliable_sleep`'s long run in the test profile (debug assertions on),
-/// shrunk by the runner to these 20 operations. The cause: the multibody explodes, and
-/// a body beside it ends a step with non-finite velocities and its collider
-/// quarantined by Rapier, its touching pair with a parentless collider still in the
-/// narrow phase. Plain Rapier quarantines that body at the end of the next step. The
-/// repair monitor wrote to it in the pre-step (giving back its soft-CCD prediction),
-/// which flags it modified: Rapier then quarantined it at the start of the step,
-/// dropped it from its island, and its island check found the pair's link with
-/// neither body a member. The layer now leaves a disabled body, and one whose pose or
-/// velocity is not finite, to Rapier (`live_body_mut`), and gives the prediction back
-/// once it can. In a release build the assertion is compiled out: run it in the test
-/// profile. One step more at the end still trips it, with no write of the layer's
-/// (`bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`).
-#[test]
-fn fixed_a_write_to_a_body_with_non_finite_velocities_trips_no_rapier_assertion() {
-    use harness::Preset;
+/// The pile of the two tests below: a rule, a joint and a multibody joint that
+/// explodes, then `final_steps` steps.
+fn exploding_multibody_beside_a_rule(final_steps: u8) -> Vec<Op> {
     let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
-    let ops = [
+    let mut ops = vec![
         ball(-2, 0, -1, 1),
         Op::Step(30),
         Op::IgnoreBetween(4, 128),
@@ -454,8 +437,32 @@ fn fixed_a_write_to_a_body_with_non_finite_velocities_trips_no_rapier_assertion(
             vy: 3,
             vz: 1,
         },
-        Op::Step(3),
     ];
+    ops.push(Op::Step(final_steps));
+    ops
+}
+
+/// A pile with a rule, a joint and a multibody joint whose bodies the speed-ups hold
+/// (`reliable_sleep`), with the repair monitor: in a debug build Rapier's island
+/// manager asserted ("assertion failed: member(link.body1) || member(link.body2)",
+/// `island_manager/persistent.rs`) in the layer's step. Found by
+/// `speedups_reliable_sleep`'s long run in the test profile (debug assertions on),
+/// shrunk by the runner to these 20 operations. The cause: the multibody explodes, and
+/// a body beside it ends a step with non-finite velocities and its collider
+/// quarantined by Rapier, its touching pair with a parentless collider still in the
+/// narrow phase. Plain Rapier quarantines that body at the end of the next step. The
+/// repair monitor wrote to it in the pre-step (giving back its soft-CCD prediction),
+/// which flags it modified: Rapier then quarantined it at the start of the step,
+/// dropped it from its island, and its island check found the pair's link with
+/// neither body a member. The layer now leaves a disabled body, and one whose pose or
+/// velocity is not finite, to Rapier (`live_body_mut`), and gives the prediction back
+/// once it can. In a release build the assertion is compiled out: run it in the test
+/// profile. One step more at the end still trips it, with no write of the layer's
+/// (`bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`).
+#[test]
+fn fixed_a_write_to_a_body_with_non_finite_velocities_trips_no_rapier_assertion() {
+    use harness::Preset;
+    let ops = exploding_multibody_beside_a_rule(3);
     // Failed when found (debug build): the assertion in Rapier's step.
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }
@@ -560,43 +567,7 @@ fn bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics() {
 #[ignore = "bug: in debug builds, Rapier's islands assert a step after its quarantine disables a body beside an exploded multibody"]
 fn bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion() {
     use harness::Preset;
-    let cube = |x: i8, y: u8, z: i8, r: u8| Op::Cube { x, y, z, r };
-    let ops = [
-        ball(-2, 0, -1, 1),
-        Op::Step(30),
-        Op::IgnoreBetween(4, 128),
-        Op::RemoveCollider(91),
-        Op::SetShape(28, 10),
-        Op::MoveStatic {
-            collider: 6,
-            x: -4,
-            y: 5,
-            z: 0,
-        },
-        Op::ExtraCollider { on: 48, x: 0 },
-        cube(1, 0, -2, 1),
-        cube(3, 1, 2, 3),
-        Op::Step(2),
-        ball(1, 5, -3, 0),
-        cube(-3, 5, 1, 0),
-        Op::Step(30),
-        cube(-2, 1, 1, 2),
-        ball(4, 0, -4, 3),
-        Op::Joint {
-            a: 78,
-            b: 122,
-            revolute: false,
-        },
-        Op::SetParent(42, Some(233)),
-        Op::Multibody { a: 218, b: 113 },
-        Op::Velocity {
-            body: 6,
-            vx: -1,
-            vy: 3,
-            vz: 1,
-        },
-        Op::Step(4),
-    ];
-    // Failed when found (debug build): the assertion in Rapier's step.
+    let ops = exploding_multibody_beside_a_rule(4);
+    // Fails (debug build): the assertion in Rapier's step.
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }

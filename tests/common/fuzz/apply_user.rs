@@ -56,17 +56,18 @@ impl Harness {
     /// or kinematic (the layer guards only the bodies it made passive itself).
     fn jointed_to_disabled_or_link(&self, h: RigidBodyHandle) -> bool {
         self.world.multibody_joints.rigid_body_link(h).is_some()
-            || self
-                .world
-                .impulse_joints
-                .attached_joints(h)
-                .any(|(b1, b2, ..)| {
-                    let other = if b1 == h { b2 } else { b1 };
-                    self.world
-                        .bodies
-                        .get(other)
-                        .is_some_and(|rb| !rb.is_enabled() || !rb.is_dynamic())
-                })
+            || self.jointed_to(h, |rb| !rb.is_enabled() || !rb.is_dynamic())
+    }
+
+    /// Whether an impulse joint ties `h` to a body that `is` says yes to.
+    pub(super) fn jointed_to(&self, h: RigidBodyHandle, is: impl Fn(&RigidBody) -> bool) -> bool {
+        self.world
+            .impulse_joints
+            .attached_joints(h)
+            .any(|(b1, b2, ..)| {
+                let other = if b1 == h { b2 } else { b1 };
+                self.world.bodies.get(other).is_some_and(&is)
+            })
     }
 
     /// A user's own Rapier call on a body: the layer is not told.
@@ -230,8 +231,10 @@ impl Harness {
         // Under the speed-ups, with impulse joints: a joint pulling resting bodies
         // together in the missed steps went unseen
         // (`bug_an_unseen_step_after_a_joint_between_resting_bodies_under_the_speed_ups`).
-        let speedups_joints =
-            || matches!(self.config, Config::SpeedUps(_)) && self.world.impulse_joints.iter().next().is_some();
+        let speedups_joints = || {
+            matches!(self.config, Config::SpeedUps(_))
+                && self.world.impulse_joints.iter().next().is_some()
+        };
         !self.rules.is_empty()
             || speedups_joints()
             || unguarded_joint()
