@@ -165,8 +165,6 @@
 //! limit (they fail with `--ignored`). So that the fuzzing goes on finding new bugs,
 //! the harness avoids what triggers the open bugs and the limits (`Harness::steer`;
 //! each place names the test; `harness::run_unsteered` replays without it):
-//! - under the speed-ups, no unseen step while the world has impulse joints
-//!   (`bug_an_unseen_step_after_a_joint_between_resting_bodies_under_the_speed_ups`);
 //! - no held body joins a multibody
 //!   (`bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`);
 //! - no user `set_enabled(false)` on a held body in its parking step

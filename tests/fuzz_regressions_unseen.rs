@@ -799,20 +799,14 @@ fn bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
 
 /// Bodies settled for 39 steps under `SpeedUps::default()`, one removed, an impulse
 /// joint inserted between two of the others, then two steps of Rapier alone: the
-/// layer's next step does not notice them, and a touching pair made in them has no
-/// edge ("Rapier pair of nodes 9–11 has no edge"). Under touching tracking without
-/// the speed-ups it passes. What the witness saw: two sampled bodies, one resting
-/// exactly (the speed-ups zero a resting body's velocity) and one drifting too slowly
-/// to count as moving, whose pose did change; not every one changed, so no step. The
-/// active set grew from 2 to 4 bodies, which the witness reads only when no sampled
-/// body is left: reading it always would catch this, but `IslandManager::wake_up`
-/// (which removing a collider or a body with `wake_up` calls) grows it between steps
-/// too, and each such removal would cost a full read. Open. The fuzzer takes no
-/// unseen step under the speed-ups while the world has impulse joints. Found by the
+/// layer's next step did not notice them, and a touching pair made in them had no
+/// edge ("Rapier pair of nodes 9–11 has no edge"). The witness's two sampled bodies:
+/// one resting exactly (the speed-ups zero a resting body's velocity), one drifting
+/// too slowly to count as moving, whose pose did change; it asked every one to have
+/// changed. Now, with none moving, the ones with any velocity tell. Found by the
 /// default seed's long run, shrunk.
 #[test]
-#[ignore = "bug: under the speed-ups, unseen steps after a joint between resting bodies go unnoticed"]
-fn bug_an_unseen_step_after_a_joint_between_resting_bodies_under_the_speed_ups() {
+fn fixed_an_unseen_step_after_a_joint_between_resting_bodies_is_noticed() {
     use harness::Preset;
     let ops = [
         Op::RemoveCollider(248),
@@ -844,6 +838,6 @@ fn bug_an_unseen_step_after_a_joint_between_resting_bodies_under_the_speed_ups()
         },
         Op::Unseen(2),
     ];
-    // Fails: "Rapier pair of nodes 9–11 has no edge".
+    // Failed when found: "Rapier pair of nodes 9–11 has no edge".
     run_unsteered(Config::SpeedUps(Preset::Default), &ops, true).unwrap();
 }

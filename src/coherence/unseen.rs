@@ -71,7 +71,8 @@ impl StepWitness {
     /// sampled body's sleep timer grew, or every sampled body that was moving fast
     /// enough to change its pose in a step (and is
     /// still in the world and dynamic) moved or changed velocity, or, none moving,
-    /// every one still there did, or (none left) a body of the active set that was not
+    /// every one with any velocity did, or, none with any, every one still there
+    /// did, or (none left) a body of the active set that was not
     /// dynamic is dynamic now and moved, or the active set changed size. Bodies
     /// at rest are left out while some moved: a pile's resting bodies keep their pose
     /// through a step (exactly so under the speed-ups, which zero their velocities and
@@ -84,6 +85,7 @@ impl StepWitness {
         }
         let (mut live, mut changed) = (0, 0);
         let (mut moving, mut moving_changed) = (0, 0);
+        let (mut drifting, mut drifting_changed) = (0, 0);
         for &(h, pose, vel, timer, moves) in &self.sample {
             // A body removed, turned kinematic or fixed, or disabled by the user (a
             // step does not move it) tells nothing.
@@ -102,10 +104,17 @@ impl StepWitness {
             if moves {
                 moving += 1;
                 moving_changed += usize::from(now);
+            } else if vel.iter().any(|&v| f32::from_bits(v) != 0.0) {
+                drifting += 1;
+                drifting_changed += usize::from(now);
             }
         }
         if moving > 0 {
             moving_changed == moving
+        } else if drifting > 0 {
+            // None fast enough to move for sure: the ones with any velocity (a body
+            // at rest under the speed-ups has none, and keeps its pose exactly).
+            drifting_changed == drifting
         } else if live > 0 {
             changed == live
         } else {
