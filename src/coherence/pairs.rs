@@ -16,6 +16,7 @@ use rapier3d::prelude::ColliderHandle;
 
 use crate::graph::validate::edge_allowed;
 use crate::graph::{ContactCache, ContactGraph, EdgeId, EdgeKind, NodeId};
+use crate::util::rapier::pose_is_finite;
 
 /// Bitwise equality of two poses: "unchanged" in the paper's sense means the narrow
 /// phase would return exactly the same result.
@@ -41,10 +42,6 @@ fn same_pose(p: &Pose, q: &Pose) -> bool {
     a.iter()
         .zip(b.iter())
         .all(|(x, y)| x.to_bits() == y.to_bits())
-}
-
-fn pose_is_finite(p: &Pose) -> bool {
-    p.translation.is_finite() && p.rotation.is_finite()
 }
 
 /// Starts this step's update of an edge: shifts the state to `e_old`, clears the

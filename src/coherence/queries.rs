@@ -11,6 +11,21 @@ use super::*;
 /// analysed world from another ([`Coherence::bodies_match`]).
 pub(crate) const WORLD_WITNESSES: usize = 8;
 
+/// The verdict of the world's witnesses, each "the same world" (`Some(true)`),
+/// "another" (`Some(false)`) or nothing (`None`): one "the same" wins (the same world
+/// edited may have moved a few lists or shapes, a copy has moved them all), else one
+/// "another" decides, else nothing tells and the world answers. O(witnesses).
+fn same_world_by(witnesses: impl Iterator<Item = Option<bool>>) -> bool {
+    let mut another = false;
+    for same in witnesses.flatten() {
+        if same {
+            return true;
+        }
+        another = true;
+    }
+    !another
+}
+
 impl Coherence {
     /// Sets the step counter (tests of counters at the end of their range).
     #[cfg(test)]
@@ -72,30 +87,23 @@ impl Coherence {
         }
         // Each witness a body the layer read: its list where it was tells "the same
         // world" (whatever its length); at the length read but elsewhere, "another"
-        // (a list that changed length may have moved when it grew). One "same" wins:
-        // the same world edited may have moved a few lists (colliders attached past
-        // their capacity, then as many removed), a copy has moved them all.
-        let mut elsewhere = false;
+        // (a list that changed length may have moved when it grew).
         let witnesses = bodies
             .iter()
             .filter(|(_, rb)| !rb.colliders().is_empty())
-            .take(WORLD_WITNESSES);
-        for (h, rb) in witnesses {
-            let Some(node) = graph.node_of_body(h).and_then(|n| graph.node(n)) else {
-                continue;
-            };
-            let (read, now) = (node.storage.list, Storage::list_of(rb));
-            if read.0 == 0 {
-                continue;
-            }
-            if read.0 == now.0 {
-                return true;
-            }
-            elsewhere |= read.1 == now.1;
-        }
-        // Nothing to compare: the same world edited (what it read removed, or its
-        // colliders moved) cannot be told from another; it answers.
-        !elsewhere
+            .take(WORLD_WITNESSES)
+            .map(|(h, rb)| {
+                let read = graph.node(graph.node_of_body(h)?)?.storage.list;
+                let now = Storage::list_of(rb);
+                if read.0 == 0 {
+                    None
+                } else if read.0 == now.0 {
+                    Some(true)
+                } else {
+                    (read.1 == now.1).then_some(false)
+                }
+            });
+        same_world_by(witnesses)
     }
 
     /// [`Self::bodies_match`] for a collider set: the first colliders of the set (up to
@@ -115,27 +123,18 @@ impl Coherence {
         if counted && first == first_collider {
             return true;
         }
-        // As for bodies: one shape where the layer read it wins.
-        let mut elsewhere = false;
-        for (h, c) in colliders.iter().take(WORLD_WITNESSES) {
+        // Each witness a collider the layer read for its node: its shape where it was
+        // tells "the same world", elsewhere "another".
+        let witnesses = colliders.iter().take(WORLD_WITNESSES).map(|(h, c)| {
             let owner = match c.parent() {
                 Some(body) => graph.node_of_body(body),
                 None if c.is_sensor() => graph.node_of_sensor(h),
                 None => graph.node_of_static_collider(h),
-            };
-            let Some((named, shape)) = owner.and_then(|o| graph.node(o)).map(|n| n.storage.shape)
-            else {
-                continue;
-            };
-            if named != Some(h) || shape == 0 {
-                continue;
-            }
-            if shape == Storage::shape_of(c) {
-                return true;
-            }
-            elsewhere = true;
-        }
-        !elsewhere
+            }?;
+            let (named, shape) = graph.node(owner)?.storage.shape;
+            (named == Some(h) && shape != 0).then(|| shape == Storage::shape_of(c))
+        });
+        same_world_by(witnesses)
     }
 
     /// Whether the world's body and collider sets both can be the analysed world's

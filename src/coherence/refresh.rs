@@ -5,6 +5,7 @@ use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource};
 use crate::groups::Groups;
+use crate::util::rapier::pose_is_finite;
 use crate::WorldView;
 
 use super::*;
@@ -56,9 +57,7 @@ impl Coherence {
     ) {
         let step = self.step;
         let rb = view.bodies.get(h);
-        let finite = rb.is_some_and(|rb| {
-            rb.position().translation.is_finite() && rb.position().rotation.is_finite()
-        });
+        let finite = rb.is_some_and(|rb| pose_is_finite(rb.position()));
         let passive = self.is_passive(rb.is_some_and(|rb| rb.is_enabled()), h);
         let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
         let resigned = graph

@@ -13,6 +13,14 @@ use crate::WorldView;
 
 use super::*;
 
+/// Whether a collider of the set lacks `ActiveEvents::COLLISION_EVENTS` (one the set
+/// lacks does not). O(1).
+fn lacks_touch_flag(colliders: &ColliderSet, c: ColliderHandle) -> bool {
+    colliders
+        .get(c)
+        .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS))
+}
+
 impl Coherence {
     /// Sets or takes off the layer's `COLLISION_EVENTS` flags, before Rapier's step:
     /// with `on`, every collider lacking the flag gets it (all colliders when their
@@ -29,7 +37,7 @@ impl Coherence {
                     co.set_active_events(f);
                 }
             }
-            self.touch_flag_colliders = usize::MAX;
+            self.force_touch_flags();
             return;
         }
         let budget = self.verify_budget();
@@ -38,9 +46,7 @@ impl Coherence {
         // Read first: `ColliderSet::get_mut` marks a collider modified for Rapier's
         // next step, so only a collider that needs the flag is written.
         let mut flag = |c: ColliderHandle, colliders: &mut ColliderSet| {
-            let lacks = colliders
-                .get(c)
-                .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS));
+            let lacks = lacks_touch_flag(colliders, c);
             // (`lacks` first: `get_mut` marks the collider even when nothing is written.)
             if let Some(co) = lacks.then(|| colliders.get_mut(c)).flatten() {
                 co.set_active_events(co.active_events() | ActiveEvents::COLLISION_EVENTS);
@@ -73,11 +79,7 @@ impl Coherence {
         graph: &ContactGraph,
         view: &WorldView,
     ) -> Vec<ColliderHandle> {
-        let lacks = |c: &ColliderHandle| {
-            view.colliders
-                .get(*c)
-                .is_some_and(|co| !co.active_events().contains(ActiveEvents::COLLISION_EVENTS))
-        };
+        let lacks = |c: &ColliderHandle| lacks_touch_flag(view.colliders, *c);
         let mut out = Vec::new();
         for &n in &self.created {
             match graph.node(n).map(|n| n.source) {

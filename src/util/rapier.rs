@@ -1,4 +1,6 @@
-//! Writes to Rapier colliders that Rapier would not notice on its own.
+//! Small helpers over Rapier's types: writes to colliders that Rapier would not
+//! notice on its own, a pose's bits and finiteness, and the bodies the layer may
+//! write to.
 
 use rapier3d::geometry::Collider;
 
@@ -26,6 +28,11 @@ pub(crate) fn pose_bits(p: &rapier3d::math::Pose) -> [u32; 7] {
     [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits)
 }
 
+/// Whether a pose's translation and rotation are finite. O(1).
+pub(crate) fn pose_is_finite(p: &rapier3d::math::Pose) -> bool {
+    p.translation.is_finite() && p.rotation.is_finite()
+}
+
 /// The body, to write to, unless it is disabled or its pose or velocity is not
 /// finite. Such a body is Rapier's quarantine's: a body with non-finite state is
 /// quarantined at the end of Rapier's step, and the disable is processed in the next.
@@ -37,10 +44,8 @@ pub(crate) fn live_body_mut(
     h: rapier3d::dynamics::RigidBodyHandle,
 ) -> Option<&mut rapier3d::dynamics::RigidBody> {
     let rb = bodies.get(h)?;
-    let p = rb.position();
     let live = rb.is_enabled()
-        && p.translation.is_finite()
-        && p.rotation.is_finite()
+        && pose_is_finite(rb.position())
         && rb.linvel().is_finite()
         && rb.angvel().is_finite();
     if live {
