@@ -81,17 +81,7 @@ pub fn action(bodies: usize) -> Action {
 /// the pile is every other body, in insertion order; the ball is inserted at the
 /// disturbance step ([`Disturbance::projectile`]). O(bodies).
 pub fn bin_hit(p: &DisturbParams) -> Disturbance {
-    let mut scene = mixed_pile(p.boxes, p.seed);
-    scene.name = "bin_hit";
-    let pile = scene.dynamic_bodies();
-    Disturbance {
-        scene,
-        pile,
-        at: p.at,
-        steps: p.at + p.after,
-        projectile: None,
-        action: action(p.boxes),
-    }
+    Disturbance::of_plain_scene(mixed_pile(p.boxes, p.seed), "bin_hit", p, action(p.boxes))
 }
 
 #[cfg(test)]

@@ -81,23 +81,14 @@ pub fn throw(p: &DisturbParams) -> (Vector, Vector) {
 /// every sphere, in insertion order; the thrown sphere is inserted at the
 /// disturbance step ([`Disturbance::projectile`]). O(spheres).
 pub fn diku_throw(p: &DisturbParams) -> Disturbance {
-    let mut scene = diku(&diku_params(p));
-    scene.name = "diku_throw";
-    let pile = scene.dynamic_bodies();
     let (start, velocity) = throw(p);
-    Disturbance {
-        scene,
-        pile,
-        at: p.at,
-        steps: p.at + p.after,
-        projectile: None,
-        action: Action::Throw {
-            radius: RADIUS,
-            density: DENSITY,
-            start,
-            velocity,
-        },
-    }
+    let action = Action::Throw {
+        radius: RADIUS,
+        density: DENSITY,
+        start,
+        velocity,
+    };
+    Disturbance::of_plain_scene(diku(&diku_params(p)), "diku_throw", p, action)
 }
 
 #[cfg(test)]

@@ -161,6 +161,27 @@ pub struct Disturbance {
 }
 
 impl Disturbance {
+    /// The disturbance of a scene built as a plain one, renamed `name`: its dynamic
+    /// bodies, in insertion order, are the pile, and `action` happens before step
+    /// `p.at`. O(bodies).
+    fn of_plain_scene(
+        mut scene: Scene,
+        name: &'static str,
+        p: &DisturbParams,
+        action: Action,
+    ) -> Disturbance {
+        scene.name = name;
+        let pile = scene.dynamic_bodies();
+        Disturbance {
+            scene,
+            pile,
+            at: p.at,
+            steps: p.at + p.after,
+            projectile: None,
+            action,
+        }
+    }
+
     /// Applies the disturbance when `step == at` and drives a sweeping body from then
     /// on. Call before each step with the step index about to run. O(1).
     pub fn before_step(&mut self, step: u64) {

@@ -10,6 +10,16 @@ use super::ops::{grid, pick, raw, vel, Ty};
 use super::{Config, Harness, Op};
 
 impl Harness {
+    /// Whether no collider is attached to, or moved onto, body `h` now: under the
+    /// speed-ups, a multibody member (Rapier's solver may panic in its warm start,
+    /// `bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics` in
+    /// `tests/fuzz_regressions_held.rs`).
+    fn member_steered_off(&self, h: RigidBodyHandle) -> bool {
+        self.steer
+            && matches!(self.config, Config::SpeedUps(_))
+            && self.world.multibody_joints.rigid_body_link(h).is_some()
+    }
+
     pub(super) fn bodies(&self) -> Vec<RigidBodyHandle> {
         self.world.bodies.iter().map(|(h, _)| h).collect()
     }
@@ -167,14 +177,7 @@ impl Harness {
                 }
             }
             Op::ExtraCollider { on, x } => {
-                // Under the speed-ups, no collider is attached to a multibody member
-                // (as for `SetParent` below).
-                let member = |h: RigidBodyHandle| {
-                    self.world.multibody_joints.rigid_body_link(h).is_some()
-                        && self.steer
-                        && matches!(self.config, Config::SpeedUps(_))
-                };
-                if let Some(h) = self.body(on).filter(|&h| !member(h)) {
+                if let Some(h) = self.body(on).filter(|&h| !self.member_steered_off(h)) {
                     let off = Vector::new(f32::from(x.clamp(-2, 2)) * 0.25, 0.0, 0.0);
                     self.both(|w| {
                         w.insert_collider(ColliderBuilder::ball(0.3).translation(off), Some(h));
@@ -214,13 +217,7 @@ impl Harness {
             }
             Op::SetParent(i, to) => {
                 let parent = to.and_then(|b| self.body(b));
-                // Under the speed-ups, no collider moves onto (or is attached to) a
-                // multibody member: Rapier's solver may panic in its warm start
-                // (`bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics`
-                // in `tests/fuzz_regressions_held.rs`).
-                let onto_member = parent
-                    .is_some_and(|p| self.world.multibody_joints.rigid_body_link(p).is_some());
-                if self.steer && onto_member && matches!(self.config, Config::SpeedUps(_)) {
+                if parent.is_some_and(|p| self.member_steered_off(p)) {
                     return Ok(());
                 }
                 if let Some(c) = self.collider(i) {
@@ -292,20 +289,9 @@ impl Harness {
                 // Rapier asserts that a multibody's non-root links are dynamic, and
                 // panics on a joint between a disabled body and a fixed (or
                 // kinematic) one.
-                let jointed_to_disabled = |h: RigidBodyHandle| {
-                    self.world
-                        .impulse_joints
-                        .attached_joints(h)
-                        .any(|(b1, b2, ..)| {
-                            let other = if b1 == h { b2 } else { b1 };
-                            self.world
-                                .bodies
-                                .get(other)
-                                .is_some_and(|rb| !rb.is_enabled())
-                        })
-                };
                 let refused = |h: RigidBodyHandle| {
-                    self.non_root_link(h) || (!matches!(ty, Ty::Dynamic) && jointed_to_disabled(h))
+                    self.non_root_link(h)
+                        || (!matches!(ty, Ty::Dynamic) && self.jointed_to(h, |rb| !rb.is_enabled()))
                 };
                 if let Some(h) = self.body(i).filter(|&h| !refused(h)) {
                     let sync = self.needs_sync(h);

@@ -174,13 +174,12 @@ impl Harness {
     /// - while the layer has rules: a step without the layer's hooks applies none, and
     ///   where nothing moves the layer does not notice it missed one, a documented
     ///   limit (`limit_a_rule_holds_across_an_unseen_step_where_nothing_moves`);
-    /// - under the speed-ups, or with a multibody link awake, while no awake dynamic
-    ///   body moves: no sleep timer grows (nor does a link's)
-    ///   under their sleep, so a step where every sampled body rests exactly shows
-    ///   nothing (a multibody link held still by a fixed root), and their sleep lets
-    ///   Rapier put a body back to sleep two steps after it wakes, so a body the user
-    ///   wakes (a teleport) can wake and sleep within the missed steps, documented
-    ///   limits (`limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups`,
+    /// - while no awake dynamic body moves, under the speed-ups or with a multibody
+    ///   link awake: no sleep timer grows under the speed-ups' sleep, nor a link's held
+    ///   still by its joint, so a step where every sampled body rests exactly shows
+    ///   nothing; and the speed-ups' sleep lets Rapier put a body back to sleep two
+    ///   steps after it wakes, so a body the user wakes (a teleport) can wake and sleep
+    ///   within the missed steps: documented limits (`limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups`,
     ///   `limit_an_unseen_step_where_a_multibody_link_rests_exactly`,
     ///   `limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`).
     pub(super) fn unseen_avoided(&self) -> bool {
