@@ -750,18 +750,35 @@ fn limit_an_unseen_step_where_a_multibody_link_rests_exactly() {
 
 /// A second layer attached, stepping in turn with the first, then detached (taking
 /// off the `COLLISION_EVENTS` flags it added), a body made fixed, solver groups set
-/// and a multibody joined, under touching tracking: the world's trajectories differ
-/// from the plain twin's in their last bits at the next steps. The twin is given
-/// the layers' flag writes (as `step_twin` says) but in the collider order, not the
-/// order the layers wrote them, and Rapier handles pairs in the order of the writes:
-/// the likely cause, not yet shown. Open; the fuzzer drops the twin when a second
-/// layer detaches. Found by the `touching` configuration's long run with
-/// `PROPTEST_RNG_SEED=11`, shrunk.
+/// and a multibody joined, under touching tracking: the world's trajectories are the
+/// plain twin's, bit for bit, once the twin is given `detach`'s collider accesses in
+/// the same order (they are Rapier's modified list; see the limit below). Found by
+/// the `touching` configuration's long run with `PROPTEST_RNG_SEED=11`, shrunk.
 #[test]
-#[ignore = "bug: after a second layer detaches, trajectories differ from the plain twin in their last bits"]
-fn bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
+fn a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
+    run_unsteered(Config::Touching, &detached_then_changed(), true).unwrap();
+}
+
+/// The same without the twin given `detach`'s accesses: `detach` takes its flags off
+/// with `ColliderSet::get_mut`, which puts each collider in Rapier's modified list
+/// at that moment, and a collider the user changes before the next step keeps that
+/// place (the solver groups here), so Rapier handles the changes in another order
+/// than in a world never layered, and the next steps differ in their last bits.
+/// Rapier's API has no write that leaves the list alone; `ContactLayer::detach`'s
+/// docs say to detach after the changes, right before the next step.
+#[test]
+#[ignore = "limit: a collider changed after detach keeps the place of the layer's write in Rapier's modified list"]
+fn limit_a_collider_changed_after_detach_keeps_the_place_of_the_layers_write() {
+    let mut h = harness::Harness::with_config(Config::Touching);
+    h.steer = false;
+    h.mirror_detach = false;
+    harness::run_harness(h, &detached_then_changed(), true).unwrap();
+}
+
+/// Detach, then the user's changes after it: the operations of the two tests above.
+fn detached_then_changed() -> Vec<Op> {
     use harness::{Call, Second, Ty, Who};
-    let ops = [
+    vec![
         Op::User(
             Who::Any(0),
             Call::Remove {
@@ -792,9 +809,7 @@ fn bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories() {
         Op::Second(Second::Detach),
         Op::SolverGroups(121, 0),
         Op::Multibody { a: 14, b: 67 },
-    ];
-    // Fails: "trajectories differ from the plain Rapier twin".
-    run_unsteered(Config::Touching, &ops, true).unwrap();
+    ]
 }
 
 /// Bodies settled for 39 steps under `SpeedUps::default()`, one removed, an impulse

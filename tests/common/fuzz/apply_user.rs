@@ -264,12 +264,20 @@ impl Harness {
             Second::Detach => {
                 if let Some(l) = self.second.take() {
                     l.detach(WorldMut::from(&mut self.world));
-                    // The twin gets the flags taken off in another order than the
-                    // layer took them off, and Rapier handles pairs in the order of
-                    // the writes: trajectories may differ in their last bits
-                    // (`bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories`).
-                    if self.steer {
-                        self.diverge();
+                    // `detach` takes its flags off with `ColliderSet::get_mut`, which
+                    // puts each collider in Rapier's modified list now, ahead of what
+                    // the user changes before the next step; Rapier handles that list
+                    // in order, so a later change to one of them lands in another
+                    // place than in a world never layered (`ContactLayer::detach`'s
+                    // docs; `limit_a_collider_changed_after_detach_keeps_the_place_of_the_layers_write`).
+                    // The twin is given the same accesses in the same order.
+                    let flagged = std::mem::take(&mut self.second_flagged);
+                    if self.mirror_detach {
+                        if let Some(t) = &mut self.twin {
+                            for c in flagged.into_values() {
+                                let _ = t.colliders.get_mut(c);
+                            }
+                        }
                     }
                     // It took off the `COLLISION_EVENTS` flags it added, which the
                     // first layer may have found set and relied on: the docs ask for a
@@ -303,7 +311,19 @@ impl Harness {
         if self.steer && types != self.second_types {
             l.analysis_mut().request_full_sync();
         }
+        let before = collider_events(&self.world);
         l.step(&mut self.world);
+        // The colliders it flagged (its own map, in collider order), for `detach`.
+        for (c, events) in before {
+            let flagged = self
+                .world
+                .colliders
+                .get(c)
+                .is_some_and(|co| gained_touch_flag(events, co.active_events()));
+            if flagged {
+                self.second_flagged.insert(c.into_raw_parts(), c);
+            }
+        }
         self.second_types = sensor_types(&self.world);
         let step = l.analysis().current_step();
         self.counters.second_steps += 1;
@@ -319,4 +339,19 @@ impl Harness {
         self.step_twin()
             .map_err(|e| format!("second layer, after its step {step}: {e}"))
     }
+}
+
+/// Whether a collider's events gained the `COLLISION_EVENTS` flag.
+fn gained_touch_flag(before: ActiveEvents, after: ActiveEvents) -> bool {
+    !before.contains(ActiveEvents::COLLISION_EVENTS)
+        && after.contains(ActiveEvents::COLLISION_EVENTS)
+}
+
+/// Every collider's active events, in collider order.
+fn collider_events(world: &PhysicsWorld) -> Vec<(ColliderHandle, ActiveEvents)> {
+    world
+        .colliders
+        .iter()
+        .map(|(c, co)| (c, co.active_events()))
+        .collect()
 }

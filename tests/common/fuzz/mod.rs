@@ -161,6 +161,11 @@ pub struct Harness {
     /// types after its last step.
     second: Option<ContactLayer>,
     second_types: Vec<(ColliderHandle, ActiveCollisionTypes)>,
+    /// The colliders the second layer flagged, in collider order (as its own map).
+    second_flagged: BTreeMap<(u32, u32), ColliderHandle>,
+    /// Whether the twin is given the accesses of the second layer's `detach` (off to
+    /// replay the limit they stand for).
+    pub mirror_detach: bool,
     /// Whether the operations steer clear of the open bugs (each place names its
     /// regression test); off to replay a bug.
     pub steer: bool,
@@ -264,6 +269,8 @@ impl Harness {
             twin,
             second: None,
             second_types: Vec::new(),
+            second_flagged: BTreeMap::new(),
+            mirror_detach: true,
             steer: true,
             #[cfg(test)]
             log,
@@ -282,7 +289,7 @@ pub fn run(ops: &[Op], trace: bool) -> Result<Counters, String> {
 /// Runs a sequence on a fresh harness set up as `config` says; the first failed
 /// check is the error.
 pub fn run_in(config: Config, ops: &[Op], trace: bool) -> Result<Counters, String> {
-    run_with(Harness::with_config(config), ops, trace)
+    run_harness(Harness::with_config(config), ops, trace)
 }
 
 /// [`run_in`] without steering clear of the open bugs (see [`Harness::steer`]): how
@@ -290,10 +297,11 @@ pub fn run_in(config: Config, ops: &[Op], trace: bool) -> Result<Counters, Strin
 pub fn run_unsteered(config: Config, ops: &[Op], trace: bool) -> Result<Counters, String> {
     let mut h = Harness::with_config(config);
     h.steer = false;
-    run_with(h, ops, trace)
+    run_harness(h, ops, trace)
 }
 
-fn run_with(mut h: Harness, ops: &[Op], trace: bool) -> Result<Counters, String> {
+/// Runs a sequence on a harness set up by the caller (its switches set).
+pub fn run_harness(mut h: Harness, ops: &[Op], trace: bool) -> Result<Counters, String> {
     h.trace = trace;
     h.counters.cases = 1;
     // The first step makes nodes of the arena.
