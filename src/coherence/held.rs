@@ -7,15 +7,17 @@ use rapier3d::prelude::RigidBodyHandle;
 
 use super::details::read_details;
 use super::Coherence;
-use crate::graph::{ContactGraph, EdgeKind, NodeId};
+use crate::graph::{ContactGraph, EdgeId, EdgeKind, NodeId};
 use crate::WorldView;
 
 impl Coherence {
     /// Marks the bodies the pre-step held (`false`) or gave back (`true`) before the
     /// update reads the step: a held body's contacts with what stands still are
-    /// frozen from now on; a body given back has its touching pairs counted again
-    /// under touching tracking (Rapier pairs it anew in this step and sends `Started`
-    /// for contacts the graph kept). O(changes).
+    /// frozen from now on. A body given back is refreshed in this step; its frozen
+    /// edges are thawed: Rapier pairs it anew in this step and sends `Started` for
+    /// each contact that still touches, so under touching tracking those edges are
+    /// counted from this step's events alone (one that gets none has ended), and under
+    /// proximity tracking its pairs are read again. O(changes + their edges).
     pub(crate) fn mark_held(
         &mut self,
         graph: &mut ContactGraph,
@@ -25,14 +27,49 @@ impl Coherence {
             let Some(id) = graph.node_of_body(h) else {
                 continue;
             };
-            graph.set_held(id, !released);
             if released {
-                // Read again in this step: its kind (dynamic again, or what the user
-                // gave it), and under touching tracking its touching pairs.
-                self.stale.push(id);
+                // Frozen while the node is still held: read before it is given back.
+                if let Some(node) = graph.node(id) {
+                    let frozen = node
+                        .edges
+                        .iter()
+                        .copied()
+                        .filter(|&e| graph.edge(e).is_some_and(|e| graph.is_frozen(e)));
+                    self.thawed.extend(frozen);
+                }
+                self.released_now.push(id);
                 self.recheck.push(id);
             }
+            graph.set_held(id, !released);
         }
+    }
+
+    /// Thaws the edges of the bodies given back (touching tracking): each starts its
+    /// update with no touching collider pair, to be counted by this step's `Started`
+    /// events; the edges are returned to be settled with the events' changes.
+    /// O(thawed edges).
+    pub(super) fn thaw_edges(&mut self, graph: &mut ContactGraph) -> Vec<EdgeId> {
+        let mut changed = Vec::new();
+        let mut thawed = std::mem::take(&mut self.thawed);
+        // An edge between two bodies given back is listed twice.
+        thawed.sort_unstable();
+        thawed.dedup();
+        for e in thawed {
+            self.begin_touch_update(graph, e, &mut changed);
+            if let Some(edge) = graph.edge_mut(e) {
+                edge.cache.collider_pairs = 0;
+            }
+        }
+        self.released_now.clear();
+        changed
+    }
+
+    /// The bodies given back, read again in full (proximity tracking). O(their
+    /// count).
+    pub(super) fn restale_released(&mut self) {
+        self.thawed.clear();
+        let released = std::mem::take(&mut self.released_now);
+        self.stale.extend(released);
     }
 
     /// Reports the speed-ups' fixations (`false`) and releases (`true`) applied before

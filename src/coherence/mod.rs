@@ -217,6 +217,13 @@ pub struct Coherence {
     /// disabled or enabled in place): refreshed in this step.
     #[cfg_attr(feature = "serde", serde(skip))]
     recheck: Vec<NodeId>,
+    /// The frozen edges of the bodies the pre-step gave back (see
+    /// [`Coherence::mark_held`]), for this step's update.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    thawed: Vec<EdgeId>,
+    /// The bodies the pre-step gave back, for this step's update.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    released_now: Vec<NodeId>,
     /// Whether the pre-step found a Rapier step the layer did not see (reported in
     /// the next update's counters).
     #[cfg_attr(feature = "serde", serde(skip))]

@@ -102,16 +102,17 @@ impl Coherence {
         self.touch_flag_colliders = usize::MAX;
     }
 
-    /// Applies the step's touch transitions to the physical edges (touching tracking).
+    /// Applies the step's touch transitions to the physical edges (touching tracking),
+    /// and settles them with the edges already begun (`changed`: the thawed ones).
     pub(super) fn apply_touch_events(
         &mut self,
         graph: &mut ContactGraph,
         view: &WorldView,
         screen: &Screen,
         events: &[TouchEvent],
+        mut changed: Vec<EdgeId>,
     ) {
         let step = self.step;
-        let mut changed: Vec<EdgeId> = Vec::new();
         for ev in events {
             self.counters.collider_pairs += 1;
             let (Some(n1), Some(n2)) = (
@@ -184,10 +185,7 @@ impl Coherence {
         let mut tally = TouchTally::new(events, all);
         let nodes = self.read_touching(graph, view, screen, colliders, &mut tally);
         let TouchTally {
-            counts,
-            names,
-            pre_flag,
-            ..
+            counts, pre_flag, ..
         } = tally;
         let targets = touch_targets(graph, &nodes, &counts, all);
         let mut changed = Vec::new();
@@ -195,7 +193,7 @@ impl Coherence {
         // here, which wins (after a switch from proximity tracking, or for a collider
         // flagged late, the events alone may have counted from a stale start).
         let mut again = Vec::new();
-        self.set_touch_counts(graph, targets, &counts, &names, &mut changed, &mut again);
+        self.set_touch_counts(graph, targets, &counts, &mut changed, &mut again);
         mark_pre_flag(graph, view, pre_flag);
         let settled_twice = !again.is_empty();
         changed.append(&mut again);
@@ -267,15 +265,16 @@ impl Coherence {
         &mut self,
         graph: &mut ContactGraph,
         targets: Vec<EdgeId>,
-        counts: &BTreeMap<EdgeId, u32>,
-        names: &BTreeMap<EdgeId, [ColliderHandle; 2]>,
+        counts: &BTreeMap<EdgeId, PairTally>,
         changed: &mut Vec<EdgeId>,
         again: &mut Vec<EdgeId>,
     ) {
         let step = self.step;
         for eid in targets {
-            let want = counts.get(&eid).copied().unwrap_or(0);
-            let name = names.get(&eid).copied();
+            let (want, name) = match counts.get(&eid) {
+                Some(t) => (t.count, Some(t.named)),
+                None => (0, None),
+            };
             let Some(e) = graph.edge(eid) else { continue };
             // Kept only when already in touching tracking's terms: after proximity
             // tracking, an edge's contact count is of solver contacts, a proximate
@@ -314,7 +313,7 @@ impl Coherence {
     /// Starts this step's update of a physical edge in touching tracking (once per
     /// step): shifts its state to `e_old`, keeping its count of touching collider
     /// pairs.
-    fn begin_touch_update(
+    pub(super) fn begin_touch_update(
         &mut self,
         graph: &mut ContactGraph,
         eid: EdgeId,
@@ -384,7 +383,7 @@ impl Coherence {
 fn touch_targets(
     graph: &ContactGraph,
     nodes: &[NodeId],
-    counts: &BTreeMap<EdgeId, u32>,
+    counts: &BTreeMap<EdgeId, PairTally>,
     all: bool,
 ) -> Vec<EdgeId> {
     let mut targets: Vec<EdgeId> = if all {
@@ -447,11 +446,18 @@ struct TouchTally {
     all: bool,
     /// The collider pairs that sent `Started` this step.
     started: std::collections::HashSet<RawPair>,
-    /// Pairs met already: a pair between two rescanned nodes is met from both.
-    seen: std::collections::BTreeSet<RawPair>,
-    counts: BTreeMap<EdgeId, u32>,
-    names: BTreeMap<EdgeId, [ColliderHandle; 2]>,
+    /// Touching pairs met already: a pair between two rescanned nodes is met from
+    /// both.
+    seen: std::collections::HashSet<RawPair>,
+    /// Per physical edge, its touching collider pairs read and the pair it names.
+    counts: BTreeMap<EdgeId, PairTally>,
     pre_flag: Vec<NodeId>,
+}
+
+/// One edge's touching collider pairs as read, and the pair it names.
+struct PairTally {
+    count: u32,
+    named: [ColliderHandle; 2],
 }
 
 impl TouchTally {
@@ -465,7 +471,6 @@ impl TouchTally {
                 .collect(),
             seen: Default::default(),
             counts: BTreeMap::new(),
-            names: BTreeMap::new(),
             pre_flag: Vec::new(),
         }
     }
@@ -480,6 +485,10 @@ impl TouchTally {
         screen: &Screen,
         pair: &ContactPair,
     ) {
+        // Touching first: most pairs of a pile do not, and need no lookup.
+        if !pair.has_any_active_contact() {
+            return;
+        }
         if !self.all
             && !self.seen.insert((
                 pair.collider1.into_raw_parts(),
@@ -497,25 +506,22 @@ impl TouchTally {
         if n1 == n2 || !screen.admits_contact(graph, view, (n1, n2), pair) {
             return;
         }
-        if !pair.has_any_active_contact() {
-            return;
-        }
         if let Some(e) = pairs::physical_edge_for(graph, n1, n2, this.step) {
-            *self.counts.entry(e).or_insert(0) += 1;
             if let Some(edge) = graph.edge(e) {
                 let named = if edge.a == n1 {
                     [pair.collider1, pair.collider2]
                 } else {
                     [pair.collider2, pair.collider1]
                 };
-                self.names
+                self.counts
                     .entry(e)
-                    .and_modify(|n| {
-                        if edge.prefers_name(named, *n) {
-                            *n = named;
+                    .and_modify(|t| {
+                        t.count += 1;
+                        if edge.prefers_name(named, t.named) {
+                            t.named = named;
                         }
                     })
-                    .or_insert(named);
+                    .or_insert(PairTally { count: 1, named });
             }
         }
         if !self

@@ -28,6 +28,10 @@ impl Coherence {
     ) {
         // 0. A new step: the step's lists emptied, the tracking in effect noted.
         let (tracking, switched) = self.begin_update(graph, view, touch);
+        if touch.is_none() {
+            // Bodies given back have their pairs read again by the walk.
+            self.restale_released();
+        }
         // 1. Node upkeep: a full scan when the counts changed or on request, and the
         // round-robin verification.
         let (requested, resized) = self.upkeep_nodes(graph, groups, view, tracking);
@@ -267,7 +271,8 @@ impl Coherence {
         // flagged late).
         let scan = scan && touch.is_none();
         if let Some(events) = touch {
-            self.apply_touch_events(graph, view, screen, events);
+            let thawed = self.thaw_edges(graph);
+            self.apply_touch_events(graph, view, screen, events, thawed);
             // A body disabled (made passive, or by Rapier's quarantine) loses its
             // pairs without a `Stopped`; one enabled again regains them; a body whose
             // collider was removed gets a `Stopped` that names a collider no longer
