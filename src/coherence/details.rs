@@ -65,9 +65,10 @@ pub(crate) fn smallest_touching_pair(
 /// Calls `visit` with each Rapier contact pair between the colliders of `a` and `b`
 /// and its two colliders, the one of the node with the smaller slot (the edge's *A*)
 /// first. It walks the pairs of the side with fewer colliders; a pair is the two
-/// nodes' when its other collider is one of the other side's. `None` if a node stands
-/// for nothing. O(the contact pairs of the colliders of the node with fewer colliders
-/// × the other's collider count).
+/// nodes' when its other collider is one of the other side's (with one collider each
+/// side, Rapier's lookup of their pair walks the same list without reading the pairs).
+/// `None` if a node stands for nothing. O(the contact pairs of the colliders of the
+/// node with fewer colliders × the other's collider count).
 fn visit_pairs<'w>(
     graph: &ContactGraph,
     view: &'w WorldView,
@@ -92,6 +93,21 @@ fn visit_pairs<'w>(
     } else {
         (second_colliders, first_colliders)
     };
+    // One collider each side (a sphere against a sphere): their one pair, if any, is
+    // looked up instead of walking the collider's pairs.
+    if let ([c], [other]) = (walked, others) {
+        if let Some(pair) = view.narrow_phase.contact_pair(*c, *other) {
+            visit(
+                pair,
+                if walk_first {
+                    [*c, *other]
+                } else {
+                    [*other, *c]
+                },
+            );
+        }
+        return Some(());
+    }
     for &c in walked {
         for pair in view.narrow_phase.contact_pairs_with(c) {
             let other = super::pairs::other_collider(pair, c);

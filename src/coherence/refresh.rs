@@ -1,7 +1,7 @@
 //! Refreshing a node: reading its state from Rapier (kind, awake, passive, sleep
 //! events) and putting it on the step's walk, whose pairs are read.
 
-use rapier3d::prelude::{ColliderHandle, RigidBodyHandle};
+use rapier3d::prelude::{ColliderHandle, RigidBody, RigidBodyHandle};
 
 use crate::graph::{ContactGraph, NodeId, NodeKind, NodeSource};
 use crate::groups::Groups;
@@ -14,6 +14,9 @@ impl Coherence {
     /// Refreshes one node whatever its state, if not done this step: a body's pairs are
     /// read (it joins the walk), static geometry's too, a trigger is read from its side.
     /// A node whose object is gone is removed. Containers and logical nodes: nothing.
+    /// O(1) for a node refreshed already (the common case of the bodies awake at the
+    /// last update), checked here before the call that does the work.
+    #[inline]
     pub(super) fn refresh_node(
         &mut self,
         graph: &mut ContactGraph,
@@ -22,15 +25,30 @@ impl Coherence {
         id: NodeId,
     ) {
         let step = self.step;
-        let Some(node) = graph.node(id) else { return };
-        if node.seen_step == step {
-            return;
+        if graph.node(id).is_some_and(|n| n.seen_step != step) {
+            self.refresh_unseen(graph, groups, view, id);
         }
-        match node.source {
-            NodeSource::Body(h) if view.bodies.contains(h) => {
-                let _ = nodes::ensure_body_node(graph, view, h, &mut self.created);
-                self.mark_refreshed(graph, view, id, h, false);
+    }
+
+    /// [`Self::refresh_node`] for a node in the graph not refreshed this step.
+    fn refresh_unseen(
+        &mut self,
+        graph: &mut ContactGraph,
+        groups: &mut Groups,
+        view: &WorldView,
+        id: NodeId,
+    ) {
+        let step = self.step;
+        let Some(node) = graph.node(id) else { return };
+        let source = node.source;
+        if let NodeSource::Body(h) = source {
+            if let Some(rb) = view.bodies.get(h) {
+                nodes::ensure_node_of(graph, view, h, rb, &mut self.created);
+                self.mark_refreshed(graph, view, id, h, rb, false);
+                return;
             }
+        }
+        match source {
             NodeSource::StaticCollider(c) if nodes::is_static_collider_node(view, c) => {
                 if let Some(n) = graph.node_mut(id) {
                     n.seen_step = step;
@@ -47,19 +65,22 @@ impl Coherence {
         }
     }
 
+    /// Reads body `h` (`rb`, looked up by the caller) into its node `id` and puts the
+    /// node on the step's walk, with its sensor colliders, unless it is on it
+    /// already. O(the body's colliders).
     pub(super) fn mark_refreshed(
         &mut self,
         graph: &mut ContactGraph,
         view: &WorldView,
         id: NodeId,
         h: RigidBodyHandle,
+        rb: &RigidBody,
         awake: bool,
     ) {
         let step = self.step;
-        let rb = view.bodies.get(h);
-        let finite = rb.is_some_and(|rb| pose_is_finite(rb.position()));
-        let passive = self.is_passive(rb.is_some_and(|rb| rb.is_enabled()), h);
-        let sig = rb.map_or(0, |rb| nodes::colliders_sig(rb.colliders()));
+        let finite = pose_is_finite(rb.position());
+        let passive = self.is_passive(rb.is_enabled(), h);
+        let sig = nodes::colliders_sig(rb.colliders());
         let resigned = graph
             .node(id)
             .is_some_and(|n| n.seen_step != step && n.collider_sig != 0 && n.collider_sig != sig);
@@ -78,8 +99,8 @@ impl Coherence {
             // Only bodies with such pairs pay for the signature (`Node::pre_flag_touch`):
             // every other touching pair of theirs sent `Started`, so Rapier sends
             // its `Stopped` too.
-            let disabled = match (rb, self.tracking()) {
-                (Some(rb), Tracking::Touching) if n.pre_flag_touch => {
+            let disabled = match self.tracking() {
+                Tracking::Touching if n.pre_flag_touch => {
                     Some(nodes::disabled_sig(view, rb.colliders()))
                 }
                 _ => None,
@@ -115,9 +136,10 @@ impl Coherence {
                     Some(_) => n.reported_awake = Some(n.awake),
                 }
             }
-            if let Some(rb) = rb {
-                self.walk_sensors
-                    .extend(sensors_of(view, rb).map(|c| (id, c)));
+            for &c in rb.colliders() {
+                if view.colliders.get(c).is_some_and(|c| c.is_sensor()) {
+                    self.walk_sensors.push((id, c));
+                }
             }
             self.walk.push(id);
         }

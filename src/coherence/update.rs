@@ -163,7 +163,9 @@ impl Coherence {
         resized: &[NodeId],
     ) {
         for h in view.islands.active_bodies() {
-            let fixed = view.bodies.get(h).is_some_and(|b| b.is_fixed());
+            // Each body is looked up once: its node and refresh read it from here.
+            let rb = view.bodies.get(h);
+            let fixed = rb.is_some_and(|b| b.is_fixed());
             if !fixed {
                 self.integrated += 1;
             }
@@ -177,10 +179,9 @@ impl Coherence {
             {
                 continue;
             }
-            let Some(id) = nodes::ensure_body_node(graph, view, h, &mut self.created) else {
-                continue;
-            };
-            self.mark_refreshed(graph, view, id, h, true);
+            let Some(rb) = rb else { continue };
+            let id = nodes::ensure_node_of(graph, view, h, rb, &mut self.created);
+            self.mark_refreshed(graph, view, id, h, rb, true);
         }
         // Bodies that fell asleep, turned fixed or were disabled (awake at the last
         // update), the nodes the logic layer asks for (rule members of any kind, bodies

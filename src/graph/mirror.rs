@@ -50,6 +50,18 @@ pub(crate) fn ensure_body_node(
     created: &mut Vec<NodeId>,
 ) -> Option<NodeId> {
     let rb = view.bodies.get(handle)?;
+    Some(ensure_node_of(graph, view, handle, rb, created))
+}
+
+/// [`ensure_body_node`] for a body the caller has looked up already (`rb` is
+/// `handle`'s): the per-step refresh reads each body once. O(1).
+pub(crate) fn ensure_node_of(
+    graph: &mut ContactGraph,
+    view: &WorldView,
+    handle: RigidBodyHandle,
+    rb: &RigidBody,
+    created: &mut Vec<NodeId>,
+) -> NodeId {
     let kind = kind_of_body(view, handle, rb);
     let id = match graph.node_of_body(handle) {
         Some(id) => {
@@ -75,7 +87,7 @@ pub(crate) fn ensure_body_node(
             n.storage = body_storage(view, rb);
         }
     }
-    Some(id)
+    id
 }
 
 /// Where Rapier keeps a body's collider list and its first collider's shape
