@@ -179,8 +179,9 @@
 //!   or, under the speed-ups, no awake dynamic body moves
 //!   (`limit_an_unseen_step_where_every_sampled_body_rests_exactly_under_the_speed_ups`,
 //!   `limit_an_unseen_step_where_a_woken_body_sleeps_again_under_the_speed_ups`);
-//! - under the speed-ups, no collider is moved onto or attached to a multibody member
-//!   (`bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics`);
+//! - no collider is moved onto or attached to a disabled multibody member (Rapier
+//!   panics, with or without the layer:
+//!   `limit_a_collider_moved_onto_a_quarantined_multibody_root_panics_rapier`);
 //! - the twin is dropped when a second layer detaches
 //!   (`bug_a_second_layer_detached_before_a_multibody_joins_keeps_trajectories`);
 //! - the twin gets the layer's own `COLLISION_EVENTS` writes, at the same time

@@ -497,18 +497,19 @@ fn fixed_a_body_with_non_finite_velocities_reaches_no_held_body() {
     run_unsteered(Config::SpeedUps(Preset::ReliableSleep), &ops, true).unwrap();
 }
 
-/// A multibody of two balls beside kinematic bodies, 40 steps, then the fixed floor's
-/// collider moved onto the multibody's root with `ColliderSet::set_parent`, under
-/// `SpeedUps::default()`: Rapier panics in its solver's warm start of a multibody
-/// contact ("Matrix slicing out of bounds", `GenericRhs::apply_impulse`). The same
-/// sequence passes under the observe-only configurations; sequences of the same
-/// kind panic under `contact_graph()` and `reliable_sleep()`. Not yet reduced to
-/// plain Rapier (the layer's
-/// part, if any, is open). The fuzzer moves no collider onto a multibody member
-/// under the speed-ups. Found by a long run with `PROPTEST_RNG_SEED=15`, shrunk.
+/// A multibody of two balls beside kinematic bodies, 40 steps under
+/// `SpeedUps::default()` (in which a ball teleported into a kinematic body makes the
+/// multibody blow up, and Rapier's quarantine disables both its bodies), then the
+/// fixed floor's collider moved onto the disabled multibody root with
+/// `ColliderSet::set_parent`: Rapier panics in its solver's warm start of a
+/// multibody contact ("Matrix slicing out of bounds", `GenericRhs::apply_impulse`),
+/// in a plain `world.step()` as well. Upstream: plain Rapier does the same with no
+/// layer (`upstream_a_collider_moved_onto_a_disabled_multibody_root_panics_rapier`
+/// below). The fuzzer moves no collider onto a disabled multibody member. Found by
+/// a long run with `PROPTEST_RNG_SEED=15`, shrunk.
 #[test]
-#[ignore = "bug: a collider moved onto a multibody root under the speed-ups panics Rapier's solver"]
-fn bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics() {
+#[ignore = "limit (upstream): a collider moved onto a disabled multibody root panics Rapier's solver"]
+fn limit_a_collider_moved_onto_a_quarantined_multibody_root_panics_rapier() {
     use harness::Preset;
     let kin = |x: i8, y: u8, z: i8| Op::Kinematic {
         x,
@@ -552,6 +553,51 @@ fn bug_a_collider_moved_onto_a_multibody_root_under_the_speed_ups_panics() {
     ];
     // Fails: a panic in Rapier's step.
     run_unsteered(Config::SpeedUps(Preset::Default), &ops, true).unwrap();
+}
+
+/// The limit above in plain Rapier, no layer: a two-ball multibody disabled with
+/// `set_enabled(false)`, the floor's collider (touching other bodies) moved onto its
+/// root, a few steps. Rapier 0.36.1 panics; should an update stop it, this test fails
+/// and the limit and the fuzzer's steering can go.
+#[test]
+#[should_panic(expected = "Matrix slicing out of bounds")]
+fn upstream_a_collider_moved_onto_a_disabled_multibody_root_panics_rapier() {
+    let mut w = PhysicsWorld::new();
+    let (_, floor) = w.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.25, 0.0)),
+        ColliderBuilder::cuboid(3.0, 0.25, 3.0),
+    );
+    let (root, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0)),
+        ColliderBuilder::ball(0.5),
+    );
+    let (link, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.2, 0.0)),
+        ColliderBuilder::ball(0.5),
+    );
+    w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 2.5, 0.0)),
+        ColliderBuilder::ball(0.3),
+    );
+    let _ = w.insert_multibody_joint(
+        root,
+        link,
+        RevoluteJointBuilder::new(Vector::Z).local_anchor2(Vector::new(0.0, 0.6, 0.0)),
+    );
+    for _ in 0..40 {
+        w.step();
+    }
+    w.bodies[root].set_enabled(false);
+    w.bodies[link].set_enabled(false);
+    w.step();
+    w.step();
+    let PhysicsWorld {
+        colliders, bodies, ..
+    } = &mut w;
+    colliders.set_parent(floor, Some(root), bodies);
+    for _ in 0..5 {
+        w.step();
+    }
 }
 
 /// The sequence of `fixed_a_write_to_a_body_with_non_finite_velocities_trips_no_rapier_assertion`
