@@ -166,7 +166,7 @@
 //! the harness avoids what triggers the open bugs and the limits (`Harness::steer`;
 //! each place names the test; `harness::run_unsteered` replays without it):
 //! - no held body joins a multibody
-//!   (`bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`);
+//!   (`limit_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`);
 //! - no user `set_enabled(false)` on a held body in its parking step
 //!   (`limit_a_held_body_the_user_disables_while_parking_stays_disabled`);
 //! - no unseen step and no second-layer step while a held body is a multibody link

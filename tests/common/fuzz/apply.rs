@@ -370,7 +370,7 @@ impl Harness {
                 if let (Some(b1), Some(b2)) = (self.body(a), self.body(b)) {
                     // No held body joins a multibody: in debug builds Rapier's island
                     // manager may assert later
-                    // (`bug_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`
+                    // (`limit_a_quarantined_body_beside_a_rule_trips_rapiers_island_assertion`
                     // in `tests/fuzz_regressions_held.rs`).
                     // Rapier asserts that a multibody's non-root links are dynamic (a
                     // body the speed-ups hold fixed, and still fixed, is dynamic to its
