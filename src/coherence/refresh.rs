@@ -136,11 +136,8 @@ impl Coherence {
                     Some(_) => n.reported_awake = Some(n.awake),
                 }
             }
-            for &c in rb.colliders() {
-                if view.colliders.get(c).is_some_and(|c| c.is_sensor()) {
-                    self.walk_sensors.push((id, c));
-                }
-            }
+            self.walk_sensors
+                .extend(sensors_of(view, rb).map(|c| (id, c)));
             self.walk.push(id);
         }
     }

@@ -120,7 +120,10 @@ impl ContactLayer {
     ///   them.
     ///
     /// What the simulation did meanwhile (poses, velocities, sleep, a monitor's
-    /// repairs) stays: it is the world's state, not a setting.
+    /// repairs) stays: it is the world's state, not a setting. Tested by recording
+    /// every collider's and body's settings before attaching, running rules, triggers,
+    /// every speed-up and the monitor, and comparing after `detach`
+    /// (`tests/detach_restores_the_world.rs`). O(bodies + colliders).
     ///
     /// Detach after changing the world, right before the next step. Each write goes
     /// through `ColliderSet::get_mut` (Rapier has no other), which puts the collider
@@ -128,11 +131,7 @@ impl ContactLayer {
     /// a collider the user changes after `detach` keeps that place in the list, and
     /// Rapier handles the list in order, so the next steps can differ in their last
     /// bits from a world never layered. Changes made before `detach` keep their
-    /// order. Tested by recording
-
-    /// every collider's and body's settings before attaching, running rules, triggers,
-    /// every speed-up and the monitor, and comparing after `detach`
-    /// (`tests/detach_restores_the_world.rs`). O(bodies + colliders).
+    /// order.
     pub fn detach(mut self, mut world: WorldMut) {
         if let Some(s) = &mut self.speedups {
             s.detach();
