@@ -4,7 +4,9 @@
 //! everything — all bodies, colliders, Rapier pairs, nodes, edges and groups — so it
 //! costs O(world), unlike the per-step upkeep.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+
+use rapier3d::prelude::RigidBodyHandle;
 
 use crate::graph::mirror::{is_static_collider_node, kind_of_body};
 use crate::graph::validate::edge_allowed;
@@ -22,6 +24,10 @@ struct Check<'a> {
     graph: &'a crate::ContactGraph,
     view: &'a WorldView<'a>,
     screen: crate::coherence::Screen<'a>,
+    /// Bodies the speed-ups gave back after the analysis ([`ContactLayer::step`]
+    /// releases at once): the graph shows them as the step saw them (held, fixed,
+    /// sleepy) until the next analysis reads them, and so does the check.
+    given_back: HashSet<RigidBodyHandle>,
 }
 
 pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<()> {
@@ -39,6 +45,7 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
             rules: layer.rule_table(),
             force: &[],
         },
+        given_back: layer.analysis().given_back().into_iter().collect(),
     };
     check.nodes()?;
     check.contacts()?;
@@ -102,6 +109,10 @@ impl Check<'_> {
             };
             let node = graph.try_node(id)?;
             let kind = node.kind();
+            if self.given_back.contains(&h) && node.is_held() {
+                physical_nodes += 1;
+                continue;
+            }
             if node.is_held() != layer.fixates(h) {
                 return fail(format!(
                     "node {id:?} of body {h:?} is held = {}, the speed-ups say {}",
@@ -292,7 +303,7 @@ impl Check<'_> {
         let (graph, view) = (self.graph, self.view);
         // Containers against Rapier's joints: one container node per multibody and per
         // joined component, holding exactly its dynamic bodies.
-        let want = crate::logic::containers::desired(view);
+        let want = crate::logic::containers::desired(view, &|h| self.given_back.contains(&h));
         let mut containers = 0usize;
         for (id, n) in graph.nodes() {
             let crate::NodeSource::Container(source) = n.source() else {
@@ -343,9 +354,16 @@ impl Check<'_> {
         let groups = layer.groups();
         // Each group as a from-scratch traversal would build it (members pointing back,
         // edges, insulators, counts, sleep, connectivity; no joining edge between two).
-        groups
-            .verify(graph, &|n| layer.analysis().insulates(n))
-            .map_err(Error::Invariant)?;
+        // A body given back was sleepy when the step was analysed (held bodies are).
+        let sleepy_insulates = layer.speedups().is_some_and(|s| s.config().insulate_sleepy);
+        let insulates = |n| {
+            layer.analysis().insulates(n)
+                || (sleepy_insulates
+                    && graph
+                        .body_of(n)
+                        .is_some_and(|h| self.given_back.contains(&h)))
+        };
+        groups.verify(graph, &insulates).map_err(Error::Invariant)?;
         let mut pointing: HashMap<crate::GroupId, usize, PairBuildHasher> = HashMap::default();
         for (id, node) in graph.nodes() {
             let simulated = node.kind().is_simulated();
@@ -353,7 +371,7 @@ impl Check<'_> {
                 && node.is_awake()
                 && !node.is_body_disabled()
                 && node.group().is_none()
-                && !layer.analysis().insulates(id)
+                && !insulates(id)
             {
                 return fail(format!("awake body {id:?} has no group"));
             }

@@ -15,19 +15,24 @@ impl Coherence {
         for n in std::mem::take(&mut graph.evicted) {
             self.remove_node(graph, groups, n);
         }
+        // Bodies given back before this step: their frozen edges are thawed and
+        // counted from this step's events (`held.rs`), not read again.
+        self.released_now.sort_unstable();
         for n in std::mem::take(&mut graph.kind_changed) {
             // A held body the user gave another type, or a body touching a held one
             // that now moves: Rapier computes their kept contacts again (and reports
-            // them started): they are counted again.
-            let unfreezes = graph.node(n).is_some_and(|node| {
-                !node.kind().is_insulator()
-                    && (node.is_held()
-                        || graph.neighbors(n).any(|(m, _, e)| {
-                            e.kind() == EdgeKind::Physical
-                                && e.is_touching()
-                                && graph.node(m).is_some_and(|o| o.is_held())
-                        }))
-            });
+            // them started): they are counted again, unless they are thawed.
+            let thawed = self.released_now.binary_search(&n).is_ok();
+            let unfreezes = !thawed
+                && graph.node(n).is_some_and(|node| {
+                    !node.kind().is_insulator()
+                        && (node.is_held()
+                            || graph.neighbors(n).any(|(m, _, e)| {
+                                e.kind() == EdgeKind::Physical
+                                    && e.is_touching()
+                                    && graph.node(m).is_some_and(|o| o.is_held())
+                            }))
+                });
             if unfreezes {
                 self.stale.push(n);
             }

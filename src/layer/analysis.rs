@@ -110,6 +110,20 @@ impl<'a> LayerAnalysis<'a> {
         self.layer.grouping()
     }
 
+    /// The bodies the speed-ups gave back to Rapier since the last analysis: released
+    /// at the end of [`ContactLayer::step`] (or by a pre-step), dynamic again in the
+    /// world, and read as woken by the next analysis. Until then the graph shows them
+    /// as the last step saw them (held nodes of fixed bodies), and so does
+    /// [`ContactLayer::validate`]. In the order given back. O(changes since the last
+    /// analysis).
+    pub fn given_back(&self) -> Vec<RigidBodyHandle> {
+        self.layer
+            .speedups
+            .as_ref()
+            .map(|s| s.given_back().collect())
+            .unwrap_or_default()
+    }
+
     /// Whether a node insulates groups: fixed and kinematic bodies, and sleepy bodies
     /// under subgrouping. `false` for a stale id. O(log sleepy bodies).
     pub fn insulates(&self, n: NodeId) -> bool {

@@ -13,7 +13,11 @@ use super::{ContactLayer, StepStats};
 
 impl ContactLayer {
     /// Runs the pre-step ([`Self::pre_step`]), one Rapier step with the layer's hooks,
-    /// then the analysis ([`Self::analyze`]).
+    /// then the analysis ([`Self::analyze`]), and gives back at once the held bodies
+    /// the analysis released (see [`LayerAnalysis::given_back`](super::LayerAnalysis::given_back)):
+    /// a hand-written loop gives them back at its next pre-step instead, with the
+    /// same result unless the user writes to the world in between (Rapier handles
+    /// the bodies written before a step in the order they were written).
     ///
     /// Cost: Rapier's step, plus the analysis: O(pairs of awake bodies + events) (with
     /// touching tracking O(awake bodies + touch events)), plus the groups' changes
@@ -29,7 +33,25 @@ impl ContactLayer {
         self.coherence.set_feed_connected(true);
         self.pre_step(WorldMut::from(&mut *world));
         world.step_with_events(&self.hooks(), self.event_handler());
-        self.analyze(WorldView::from(&*world))
+        let stats = self.analyze(WorldView::from(&*world));
+        // The releases just decided are given back now rather than at the next
+        // pre-step: the step that first solves the released bodies then pays Rapier's
+        // part of a release alone, and this step, whose pile stood still, the rest.
+        self.apply_decided(&mut WorldMut::from(&mut *world));
+        stats
+    }
+
+    /// Applies the speed-ups' decisions of the last analysis that need no pre-step
+    /// (sleep eligibility, releases), before anything else the next step writes
+    /// ([`Self::step`] right after its analysis, a hand-written loop at the start of
+    /// its pre-step). O(decisions · log held).
+    fn apply_decided(&mut self, world: &mut WorldMut) {
+        if let Some(s) = &mut self.speedups {
+            let passive = &self.logic.passive;
+            s.apply_decided(world, &mut self.logic.hooks.mods, &|h| {
+                passive.contains_key(&h.into_raw_parts())
+            });
+        }
     }
 
     /// Applies the queued logical changes to the world (hook flags of rule members,
@@ -43,6 +65,9 @@ impl ContactLayer {
     /// is passive; O(passive bodies) while some are (their joints are checked when the
     /// world has impulse joints, their multibody membership when it has multibodies).
     ///
+    /// It first gives back the held bodies the last analysis released and writes its
+    /// sleep decisions, unless [`Self::step`] did already. O(those decisions).
+    ///
     /// It also tells whether Rapier stepped since the last analysis without the
     /// layer (the user's own `world.step()`, another layer's step): the next
     /// analysis then reads the world in full once and reports
@@ -51,6 +76,7 @@ impl ContactLayer {
     pub fn pre_step(&mut self, mut world: WorldMut) {
         self.coherence
             .check_unseen_step(world.bodies, world.islands);
+        self.apply_decided(&mut world);
         // The collision-event flags, once touching tracking was asked for, are kept
         // while the layer's handler reaches Rapier's step, whatever the tracking in
         // effect: a flag written to a collider Rapier has stepped counts as a change

@@ -89,7 +89,7 @@ impl Containers {
         }
         self.signature = Some(signature);
 
-        let desired = desired(view);
+        let desired = desired(view, &|_| false);
 
         let mut changed = Vec::new();
         // Remove containers that are gone.
@@ -153,9 +153,15 @@ impl Containers {
 
 /// The containers Rapier's joints make (see the module docs), each with its member
 /// bodies sorted by handle: what [`Containers::sync`] brings the graph to, and what
-/// `validate()` checks the graph against. O(joints + links).
-pub(crate) fn desired(view: &WorldView) -> BTreeMap<ContainerSource, Vec<RigidBodyHandle>> {
-    let simulated = |h: RigidBodyHandle| view.bodies.get(h).is_some_and(|b| b.is_dynamic());
+/// `validate()` checks the graph against. `seen_fixed` tells the dynamic bodies to
+/// count as fixed (`validate()`'s bodies given back after the analysis). O(joints +
+/// links).
+pub(crate) fn desired(
+    view: &WorldView,
+    seen_fixed: &dyn Fn(RigidBodyHandle) -> bool,
+) -> BTreeMap<ContainerSource, Vec<RigidBodyHandle>> {
+    let simulated =
+        |h: RigidBodyHandle| view.bodies.get(h).is_some_and(|b| b.is_dynamic()) && !seen_fixed(h);
     let mut desired: BTreeMap<ContainerSource, Vec<RigidBodyHandle>> = BTreeMap::new();
 
     // Rapier multibodies.

@@ -187,6 +187,15 @@ impl SpeedUpState {
         self.to_fix.iter().map(|t| t.handle)
     }
 
+    /// The bodies given back to Rapier since the last analysis (see
+    /// [`crate::LayerAnalysis::given_back`]). O(changes since the last analysis).
+    pub(crate) fn given_back(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.hold_changes
+            .iter()
+            .filter(|&&(_, released)| released)
+            .map(|&(h, _)| h)
+    }
+
     /// The bodies the next pre-step releases from fixation. O(1).
     pub(crate) fn pending_releases(&self) -> &[RigidBodyHandle] {
         &self.to_release
@@ -214,14 +223,14 @@ impl SpeedUpState {
     }
 
     /// Applies the queued releases: each body given back as it was held, never
-    /// sleep-eligible, its rest count started again. O(releases · log held).
+    /// sleep-eligible, its rest count started again; each noted in the hold changes
+    /// the next analysis takes. O(releases · log held).
     pub(super) fn apply_releases(
         &mut self,
         world: &mut WorldMut,
         mods: &mut ContactMods,
         user_passive: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
-        self.hold_changes.clear();
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.unhold(key(h)) {
                 self.hold_changes.push((h, true));

@@ -84,7 +84,6 @@ impl SpeedUpState {
         mods: &mut ContactMods,
         user_passive: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
-        self.hold_changes.clear();
         for (_, held) in std::mem::take(&mut self.held) {
             held.give_back(world, user_passive);
             self.hold_changes.push((held.handle, true));

@@ -137,9 +137,14 @@ impl SpeedUpState {
     }
 
     /// The held bodies the layer disabled for this step to take them out of Rapier's
-    /// active set (they are enabled again at the next pre-step). O(1) per item.
+    /// active set (they are enabled again at the next pre-step; one released since is
+    /// enabled already, and not listed). O(log held) per item.
     pub fn parking(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
-        self.parking_now.iter().copied()
+        self.parking_now.iter().copied().filter(|&h| {
+            self.held
+                .get(&key(h))
+                .is_some_and(|held| held.park == Park::Parking)
+        })
     }
 
     /// The held bodies the last pre-step enabled again after their step out of

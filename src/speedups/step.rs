@@ -41,6 +41,26 @@ impl SpeedUpState {
         self.forget_removed(world, counts_changed);
     }
 
+    /// Writes the last analysis' sleep eligibility and gives back the held bodies it
+    /// released, in handle order, before anything else the next step writes (in the
+    /// order the pre-step writes them): [`crate::ContactLayer::step`] calls it right
+    /// after its analysis, so that the step that first solves released bodies pays
+    /// only Rapier's part of the release; a hand-written loop's pre-step calls it
+    /// first. O(decisions · log held).
+    pub(crate) fn apply_decided(
+        &mut self,
+        world: &mut WorldMut,
+        mods: &mut ContactMods,
+        user_passive: &dyn Fn(RigidBodyHandle) -> bool,
+    ) {
+        if self.detached {
+            return;
+        }
+        self.sort_decisions();
+        self.write_eligibility(world);
+        self.apply_releases(world, mods, user_passive);
+    }
+
     /// Sorts the queued decisions into handle order. Rapier records modified bodies in
     /// the order they are written, and that order reaches its islands and solver. The
     /// decisions come in group and neighbour order, which depends on the order the
