@@ -196,8 +196,10 @@ impl SpeedUpState {
             .map(|&(h, _)| h)
     }
 
-    /// The bodies the next pre-step releases from fixation. O(1).
-    pub(crate) fn pending_releases(&self) -> &[RigidBodyHandle] {
+    /// The releases queued and not given back yet: those the last analysis decided,
+    /// in a hand-written loop (its next pre-step gives them back;
+    /// [`crate::ContactLayer::step`] does at once), and those asked for since. O(1).
+    pub fn pending_releases(&self) -> &[RigidBodyHandle] {
         &self.to_release
     }
 
