@@ -303,7 +303,15 @@ impl Check<'_> {
         let (graph, view) = (self.graph, self.view);
         // Containers against Rapier's joints: one container node per multibody and per
         // joined component, holding exactly its dynamic bodies.
-        let want = crate::logic::containers::desired(view, &|h| self.given_back.contains(&h));
+        // A body given back counts as the analysis saw it: fixed if its node is.
+        let seen_fixed = |h| {
+            self.given_back.contains(&h)
+                && graph
+                    .node_of_body(h)
+                    .and_then(|n| graph.node(n))
+                    .is_some_and(|n| n.kind() == NodeKind::Fixed)
+        };
+        let want = crate::logic::containers::desired(view, &seen_fixed);
         let mut containers = 0usize;
         for (id, n) in graph.nodes() {
             let crate::NodeSource::Container(source) = n.source() else {
