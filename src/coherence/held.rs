@@ -1,5 +1,5 @@
-//! Held bodies in the analysis: the speed-ups' fixations and releases applied at the
-//! pre-step, seen as sleep and wake, with the held bodies' contacts with what stands
+//! Held bodies in the analysis: the speed-ups' fixations and releases applied since
+//! the last analysis, seen as sleep and wake, with the held bodies' contacts with what stands
 //! still kept frozen (`graph/frozen.rs`) and their details read while Rapier still
 //! has them.
 
@@ -11,9 +11,9 @@ use crate::graph::{ContactGraph, EdgeId, EdgeKind, NodeId};
 use crate::WorldView;
 
 impl Coherence {
-    /// Marks the bodies the pre-step held (`false`) or gave back (`true`) before the
-    /// update reads the step: a held body's contacts with what stands still are
-    /// frozen from now on. A body given back is refreshed in this step; its frozen
+    /// Marks the bodies held (`false`) or given back (`true`) since the last analysis,
+    /// before the update reads the step: a held body's contacts with what stands still
+    /// are frozen from now on. A body given back is refreshed in this step; its frozen
     /// edges are thawed: Rapier pairs it anew in this step and sends `Started` for
     /// each contact that still touches, so under touching tracking those edges are
     /// counted from this step's events alone (one that gets none has ended), and under

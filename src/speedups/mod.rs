@@ -79,9 +79,11 @@ pub struct SpeedUpState {
     known_bodies: usize,
     known_colliders: usize,
     rest: Vec<Rest>,
-    /// Eligibility changes to write in the pre-step.
+    /// Eligibility changes to write after the analysis (see
+    /// [`Self::apply_decided`]) or in the pre-step.
     eligibility: Vec<(RigidBodyHandle, bool)>,
-    /// Fixations and releases to apply in the pre-step.
+    /// Fixations to apply in the pre-step, releases after the analysis (see
+    /// [`Self::apply_decided`]) or in the pre-step.
     to_fix: Vec<hold::ToFix>,
     to_release: Vec<RigidBodyHandle>,
     /// Held bodies to take out of Rapier's active set in the pre-step (see
@@ -100,8 +102,9 @@ pub struct SpeedUpState {
     /// (`Park::Parked` since): Rapier pairs their colliders anew in this step.
     #[cfg_attr(feature = "serde", serde(default))]
     parked_now: Vec<RigidBodyHandle>,
-    /// Fixations (`false`) and releases (`true`) applied by the last pre-step, in
-    /// order: the analysis reports them as sleep and wake.
+    /// Fixations (`false`) and releases (`true`) applied since the last analysis
+    /// (after it, and by the pre-step), in order: the next analysis reports them as
+    /// sleep and wake.
     #[cfg_attr(feature = "serde", serde(default))]
     pub(crate) hold_changes: Vec<(RigidBodyHandle, bool)>,
     held: BTreeMap<(u32, u32), Held>,
