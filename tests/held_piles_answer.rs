@@ -25,17 +25,6 @@ fn pile() -> scenes::Scene {
     scenes::box_pile(50, 7)
 }
 
-/// Throws a heavy ball into the pile's side at 8 m/s.
-fn throw_ball(world: &mut PhysicsWorld) -> RigidBodyHandle {
-    let body = RigidBodyBuilder::dynamic()
-        .translation(Vector::new(-3.0, 0.8, 0.0))
-        .linvel(Vector::new(8.0, 0.0, 0.0))
-        .ccd_enabled(true);
-    world
-        .insert(body, ColliderBuilder::ball(0.35).density(4.0))
-        .0
-}
-
 fn positions(world: &PhysicsWorld, bodies: &[RigidBodyHandle]) -> Vec<Vector> {
     bodies
         .iter()
@@ -72,7 +61,7 @@ fn thrown_at(config: Option<SpeedUps>) -> (usize, usize) {
     }
     let held = layer.speedups().map_or(0, |s| s.stats().fixated);
     let before = positions(&scene.world, &boxes);
-    throw_ball(&mut scene.world);
+    common::build::throw_heavy_ball(&mut scene.world);
     for _ in 0..AFTER {
         stepper(&mut scene, &mut layer, step);
         step += 1;

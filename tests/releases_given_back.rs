@@ -6,24 +6,12 @@
 
 mod common;
 
-use rapier3d::prelude::*;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::{ContactLayer, WorldMut, WorldView};
 use rcg_scenes as scenes;
 
 const SETTLE: u64 = 400;
 const AFTER: u64 = 120;
-
-/// Throws a heavy ball into the pile's side at 8 m/s.
-fn throw_ball(world: &mut PhysicsWorld) -> RigidBodyHandle {
-    let body = RigidBodyBuilder::dynamic()
-        .translation(Vector::new(-3.0, 0.8, 0.0))
-        .linvel(Vector::new(8.0, 0.0, 0.0))
-        .ccd_enabled(true);
-    world
-        .insert(body, ColliderBuilder::ball(0.35).density(4.0))
-        .0
-}
 
 /// A settled, held pile of 50 boxes.
 fn held_pile() -> (scenes::Scene, ContactLayer) {
@@ -44,7 +32,7 @@ fn held_pile() -> (scenes::Scene, ContactLayer) {
 #[test]
 fn a_release_is_given_back_at_the_end_of_the_step_that_decides_it() {
     let (mut scene, mut layer) = held_pile();
-    throw_ball(&mut scene.world);
+    common::build::throw_heavy_ball(&mut scene.world);
     let mut released = 0;
     for step in SETTLE..SETTLE + AFTER {
         common::step_validated(&mut scene, &mut layer, step);
@@ -72,8 +60,8 @@ fn a_hand_written_loop_gives_back_the_same_bodies_at_its_pre_step() {
     let (mut a, mut layer_a) = held_pile();
     let (mut b, mut layer_b) = held_pile();
     assert_eq!(common::pose_bits(&a.world), common::pose_bits(&b.world));
-    throw_ball(&mut a.world);
-    throw_ball(&mut b.world);
+    common::build::throw_heavy_ball(&mut a.world);
+    common::build::throw_heavy_ball(&mut b.world);
     let mut released = 0;
     for _ in 0..AFTER {
         layer_a.step(&mut a.world);

@@ -146,3 +146,15 @@ pub fn stack_of_boxes(
         .map(|i| box_at(world, base + Vector::Y * (2.0 * half * i as Real), half).0)
         .collect()
 }
+
+/// Throws a heavy ball (radius 0.35 m, density 4, CCD) at 8 m/s along +x, from
+/// x = −3 m at 0.8 m height: into the side of `rcg_scenes::box_pile`'s piles.
+pub fn throw_heavy_ball(world: &mut PhysicsWorld) -> RigidBodyHandle {
+    let body = RigidBodyBuilder::dynamic()
+        .translation(Vector::new(-3.0, 0.8, 0.0))
+        .linvel(Vector::new(8.0, 0.0, 0.0))
+        .ccd_enabled(true);
+    world
+        .insert(body, ColliderBuilder::ball(0.35).density(4.0))
+        .0
+}
