@@ -301,3 +301,48 @@ fn a_snapshot_taken_between_world_edits_and_the_next_step_continues_bit_for_bit(
     );
     t.run(250);
 }
+
+/// Throws the heavy ball into the box pile at step 400.
+fn throw_at_400(world: &mut PhysicsWorld, step: u64) {
+    if step == 400 {
+        common::build::throw_heavy_ball(world);
+    }
+}
+
+#[test]
+fn a_snapshot_taken_with_released_bodies_given_back_continues_bit_for_bit() {
+    // `ContactLayer::step` gives the bodies its analysis released back to Rapier at
+    // its end: saved then, the world holds them dynamic and the layer's graph held,
+    // until the next analysis reads them.
+    let thrown_pile = || Scene {
+        script: Some(throw_at_400),
+        ..scenes::box_pile(50, 7)
+    };
+    let held_layer = || {
+        let mut layer = ContactLayer::new();
+        layer
+            .speedups_mut()
+            .set(Some(
+                rapier_contact_graph::speedups::SpeedUps::reliable_sleep(),
+            ))
+            .unwrap();
+        layer
+    };
+    // The first step after the throw whose analysis gives bodies back.
+    let (mut scene, mut layer) = (thrown_pile(), held_layer());
+    let mut k = 0;
+    loop {
+        common::run_validated(&mut scene, &mut layer, k, 1);
+        k += 1;
+        if k > 400 && !layer.analysis().given_back().is_empty() {
+            break;
+        }
+        assert!(k < 600, "the ball released nothing");
+    }
+    let mut t = Twins::split(thrown_pile(), held_layer(), k, &mut no_predicates());
+    assert!(
+        !t.copy.layer.analysis().given_back().is_empty(),
+        "saved with bodies given back"
+    );
+    t.run(100);
+}
