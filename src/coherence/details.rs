@@ -152,13 +152,16 @@ impl<'a> NodeColliders<'a> {
 /// per-edge caches do ([`super::pairs::accumulate_pair`]), each oriented as if `n`
 /// were the edge's *B* (the normal points from the neighbour into `n`, the push is
 /// what the neighbour does to `n`). Neighbours for which `skip` says so, and `n`
-/// itself, are left out. `per` is cleared first; `mine` is scratch. False if `n` has
-/// no colliders in the world. O(the contact pairs of `n`'s colliders).
+/// itself, are left out; with `points_only`, so are the pairs without a contact point
+/// (which add nothing to a cache but its pair count and proximity), before their
+/// owner is looked up. `per` is cleared first; `mine` is scratch. False if `n` has no
+/// colliders in the world. O(the contact pairs of `n`'s colliders).
 fn per_neighbour(
     graph: &ContactGraph,
     view: &WorldView,
     n: NodeId,
     skip: impl Fn(NodeId) -> bool,
+    points_only: bool,
     mine: &mut Vec<ColliderHandle>,
     per: &mut Vec<(NodeId, ContactCache)>,
 ) -> bool {
@@ -168,6 +171,12 @@ fn per_neighbour(
     }
     for &c in mine.iter() {
         for pair in view.narrow_phase.contact_pairs_with(c) {
+            if points_only
+                && !pair.has_any_active_contact()
+                && pair.manifolds().iter().all(|m| m.points.is_empty())
+            {
+                continue;
+            }
             let other = super::pairs::other_collider(pair, c);
             let Some(m) = nodes::collider_owner(graph, view, other) else {
                 continue;
@@ -219,7 +228,10 @@ pub(crate) fn resting_supports(
             .is_none_or(|o| !edge_allowed(EdgeKind::Physical, kind, o.kind()))
     };
     let mut per = Vec::new();
-    per_neighbour(graph, view, n, disallowed, &mut Vec::new(), &mut per);
+    // A pair without a contact point holds nothing up (`ContactCache::holds_up`: it
+    // neither touches nor lies within the gap): the pairs of a held body with other
+    // held ones, most of a pile's, are passed over before any lookup.
+    per_neighbour(graph, view, n, disallowed, true, &mut Vec::new(), &mut per);
     out.extend(
         per.iter()
             .filter(|(_, cache)| cache.holds_up(true, up, min_cos, gap))
@@ -256,7 +268,7 @@ pub(crate) fn touching_depths(
             .any(|&e| graph.edge(e).is_some_and(touching_physical));
         // A pair with another listed node is read from the smaller one.
         let listed_before = |m: NodeId| m < n && sorted.binary_search(&m).is_ok();
-        if !any || !per_neighbour(graph, view, n, listed_before, &mut mine, &mut per) {
+        if !any || !per_neighbour(graph, view, n, listed_before, false, &mut mine, &mut per) {
             continue;
         }
         for (m, cache) in &per {
