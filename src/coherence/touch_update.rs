@@ -72,29 +72,37 @@ impl Coherence {
         }
     }
 
-    /// The colliders of the nodes created at this update that lack the layer's
-    /// `COLLISION_EVENTS` flag. O(created nodes' colliders).
-    pub(super) fn unflagged_of_created(
+    /// The colliders of the nodes created at this update whose touching pairs the
+    /// step's events may not tell in full: those that lack the layer's
+    /// `COLLISION_EVENTS` flag (first list), and those that carry a flag the layer did
+    /// not set (second list: the user's, or another layer's, which may have stepped
+    /// the world meanwhile; the layer reads the pairs of the colliders it flags
+    /// itself). O(created nodes' colliders · log).
+    pub(super) fn unheard_of_created(
         &self,
         graph: &ContactGraph,
         view: &WorldView,
-    ) -> Vec<ColliderHandle> {
-        let lacks = |c: &ColliderHandle| lacks_touch_flag(view.colliders, *c);
-        let mut out = Vec::new();
+    ) -> (Vec<ColliderHandle>, Vec<ColliderHandle>) {
+        let (mut unflagged, mut foreign) = (Vec::new(), Vec::new());
+        let mut sort = |c: ColliderHandle| {
+            if lacks_touch_flag(view.colliders, c) {
+                unflagged.push(c);
+            } else if !self.touch_flagged.contains_key(&c.into_raw_parts()) {
+                foreign.push(c);
+            }
+        };
         for &n in &self.created {
             match graph.node(n).map(|n| n.source) {
                 Some(NodeSource::Body(h)) => {
                     if let Some(rb) = view.bodies.get(h) {
-                        out.extend(rb.colliders().iter().copied().filter(lacks));
+                        rb.colliders().iter().for_each(|&c| sort(c));
                     }
                 }
-                Some(NodeSource::StaticCollider(c) | NodeSource::Sensor(c)) if lacks(&c) => {
-                    out.push(c);
-                }
+                Some(NodeSource::StaticCollider(c) | NodeSource::Sensor(c)) => sort(c),
                 _ => {}
             }
         }
-        out
+        (unflagged, foreign)
     }
 
     /// Makes the next [`Self::sync_touch_flags`] look at every collider. O(1).

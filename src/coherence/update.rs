@@ -294,11 +294,15 @@ impl Coherence {
             // Colliders of new nodes that lack the layer's flag (inserted while as many
             // were removed, so the count the pre-step compares did not change): their
             // touching pairs are read now, and the next pre-step flags every collider.
-            let unflagged = self.unflagged_of_created(graph, view);
+            // So are those of new nodes flagged by someone else: a body another layer
+            // stepped into contact, and to sleep, since this layer's last step leaves
+            // its witness nothing to notice.
+            let (unflagged, foreign) = self.unheard_of_created(graph, view);
             if !unflagged.is_empty() {
                 self.force_touch_flags();
                 late.extend(unflagged);
             }
+            late.extend(foreign);
             if full {
                 self.stale.clear();
                 self.rescan_touching(graph, view, screen, events, &[], true);
