@@ -251,7 +251,8 @@ impl LayerMonitor {
     }
 
     /// Plans the repairs for what the last check found and appends the events.
-    /// `fixation_released` are the bodies the speed-ups release in the next pre-step.
+    /// `fixation_released` are the bodies this analysis released from the speed-ups'
+    /// fixation (given back right after it, or at the next pre-step).
     #[allow(clippy::too_many_arguments)]
     // Long: one planning pass per kind of finding, in the order the module doc lists them.
     pub(crate) fn plan(
