@@ -1,7 +1,7 @@
 //! Held bodies in the analysis: the speed-ups' fixations and releases applied since
-//! the last analysis, seen as sleep and wake, with the held bodies' contacts with what stands
-//! still kept frozen (`graph/frozen.rs`) and their details read while Rapier still
-//! has them.
+//! the last analysis, seen as sleep and wake, with the held bodies' contacts with
+//! what stands still kept frozen (`graph/frozen.rs`) and their details read while
+//! Rapier still has them.
 
 use rapier3d::prelude::RigidBodyHandle;
 

@@ -11,7 +11,7 @@ use rapier_contact_graph::{
 };
 
 use super::contract::{matches, InForce};
-use super::derived::{derived, diff, key_of, set_diff, Derived, Key};
+use super::derived::{derived, diff, given_back_keys, key_of, set_diff, Derived, Key};
 use super::ops::raw;
 use super::oracle::touching_agrees;
 use super::{Asked, Harness};
@@ -289,12 +289,7 @@ impl Harness {
         // analysis: their kind, contacts and the containers they join (Rapier's
         // joints make containers of dynamic bodies) are compared from the next step
         // on.
-        let given_back: HashSet<Key> = layer
-            .analysis()
-            .given_back()
-            .into_iter()
-            .map(|h| Key::Body(raw(h).0, raw(h).1))
-            .collect();
+        let given_back = given_back_keys(layer);
         if !given_back.is_empty() {
             for k in &given_back {
                 if let (Some(m), Some(t)) = (mine.nodes.get(k), theirs.nodes.get_mut(k)) {

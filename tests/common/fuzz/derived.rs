@@ -46,6 +46,18 @@ pub(super) fn key_of(src: NodeSource) -> Option<Key> {
     })
 }
 
+/// The keys of the bodies the speed-ups gave back after the layer's last analysis
+/// (`LayerAnalysis::given_back`): dynamic in the world, held in the graph as the step
+/// saw them, until the next analysis.
+pub(super) fn given_back_keys(layer: &ContactLayer) -> std::collections::HashSet<Key> {
+    layer
+        .analysis()
+        .given_back()
+        .into_iter()
+        .filter_map(|h| key_of(NodeSource::Body(h)))
+        .collect()
+}
+
 fn sorted(a: Key, b: Key) -> (Key, Key) {
     if a <= b {
         (a, b)

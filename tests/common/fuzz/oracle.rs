@@ -11,7 +11,7 @@ use std::collections::{BTreeSet, HashMap};
 use rapier_contact_graph::rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, EdgeKind, NodeId, NodeKind, Rule};
 
-use super::derived::{key_of, Key};
+use super::derived::{given_back_keys, key_of, Key};
 
 fn sorted(a: Key, b: Key) -> (Key, Key) {
     if a <= b {
@@ -52,15 +52,7 @@ pub(super) fn touching_agrees(layer: &ContactLayer, world: &PhysicsWorld) -> Res
         .nodes_of_kind(NodeKind::Rule)
         .filter_map(|(id, _)| layer.logic().rule(id))
         .collect();
-    let given_back: std::collections::HashSet<Key> = layer
-        .analysis()
-        .given_back()
-        .into_iter()
-        .map(|h| {
-            let (i, gen) = h.into_raw_parts();
-            Key::Body(i, gen)
-        })
-        .collect();
+    let given_back = given_back_keys(layer);
     let body = |k: Key| match k {
         Key::Body(i, gen) => world.bodies.get(RigidBodyHandle::from_raw_parts(i, gen)),
         _ => None,
