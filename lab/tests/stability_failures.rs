@@ -190,7 +190,7 @@ fn zero_takes_the_bounce_off_a_ball_landing_on_sleepers() {
 }
 
 #[test]
-fn fixation_jams_the_seesaw_as_an_unresponsive_body_and_subgrouping_changes_nothing() {
+fn the_seesaw_throws_its_box_under_subgrouping_and_under_fixation() {
     check("seesaw");
 }
 

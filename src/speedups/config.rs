@@ -85,7 +85,9 @@ pub struct SpeedUps {
     /// Linear damping coefficient of `viscous_damping`, 1/s. Default 0.5.
     pub damping: f32,
     /// A held body is released when a body that is not sleepy and moves faster
-    /// than this, or a moving kinematic body, is about to reach it, m/s. Default 0.5.
+    /// than this, or a moving kinematic body, is about to reach it; what it released
+    /// is not held again until it is slower than this (or stopped, if kinematic),
+    /// m/s. Default 0.5.
     pub release_speed: f32,
     /// A release spreads from a released body through the held bodies it touched
     /// when held, or that touched it, nearest first, as far as the disturbance's

@@ -233,8 +233,10 @@ impl SpeedUpState {
         mods: &mut ContactMods,
         user_passive: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
+        let mut released = Vec::new();
         for h in std::mem::take(&mut self.to_release) {
             if let Some(held) = self.unhold(key(h)) {
+                released.push(h);
                 self.hold_changes.push((h, true));
                 self.unparked.remove(&key(h));
                 if let Some(rb) = held.give_back(world, user_passive) {
@@ -251,6 +253,7 @@ impl SpeedUpState {
                 mods.set_sleepy(h, false);
             }
         }
+        self.waves.join(&released);
     }
 
     /// Applies the queued fixations to the bodies that can still be held: each one's
@@ -332,6 +335,8 @@ impl SpeedUpState {
     ) -> Vec<RigidBodyHandle> {
         // Fixate: every sleepy awake simulated body, with what holds it up now.
         let mut candidates: Vec<Candidate> = Vec::new();
+        // Sleepy bodies whose wave is not at rest yet wait, as deferred ones do.
+        let mut waiting: Vec<RigidBodyHandle> = Vec::new();
         for &n in refreshed {
             let Some(node) = graph.node(n) else { continue };
             if node.kind() != NodeKind::Dynamic || !node.is_awake() {
@@ -340,7 +345,11 @@ impl SpeedUpState {
             let Some(h) = node.body() else { continue };
             match self.rest_of(h) {
                 Some(r) if r.sleepy && !self.is_fixated(h) => {
-                    candidates.push((std::cmp::Reverse(r.steps), key(h), n, h));
+                    if self.waves.waits(h) {
+                        waiting.push(h);
+                    } else {
+                        candidates.push((std::cmp::Reverse(r.steps), key(h), n, h));
+                    }
                 }
                 _ => {}
             }
@@ -354,7 +363,9 @@ impl SpeedUpState {
             .into_iter()
             .map(|c| c.3)
             .collect();
+        deferred.append(&mut waiting);
         deferred.sort_unstable_by_key(|&h| key(h));
+        deferred.dedup();
         let mut found = Vec::new();
         for (_, _, n, h) in candidates {
             let supports = supporters_now(graph, view, n, up, &mut found);

@@ -48,6 +48,7 @@ impl SpeedUpState {
             cache_written: None,
             stats: SpeedUpStats::default(),
             sleepy_changed: Vec::new(),
+            waves: Default::default(),
             detached: false,
             restored: false,
         }

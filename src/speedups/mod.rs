@@ -23,8 +23,9 @@
 //!   judged again when it may be gone. It is released, type and velocities restored
 //!   exactly, before a moving body reaches it, with as much of its held group as the
 //!   disturbance can move, when its support goes, or when the user changes its type
-//!   (`release.rs`). O(refreshed bodies' contacts + fast bodies × log bodies + held
-//!   bodies the step's changes reach).
+//!   (`release.rs`); what a moving body released is not held again while that body
+//!   still moves (`wave.rs`). O(refreshed bodies' contacts + fast bodies × log bodies
+//!   + held bodies the step's changes reach).
 //!
 //! Per step, O(awake bodies) for the energy tracking, plus O(changes) Rapier writes;
 //! a full pass over the bodies only when the configuration or the body count changes.
@@ -39,6 +40,7 @@ mod solver; // solver parameters, damping, contact-modification flags
 mod step; // the pre-step and the decisions as sequences of phases
 mod support; // the support memory of held bodies, full judgement
 mod support_partial; // what changed for the support memory, partial judgements
+mod wave; // released bodies wait until what released them slowed down
 
 pub use config::SpeedUps;
 pub(crate) use support::SUPPORT_GAP;
@@ -173,6 +175,9 @@ pub struct SpeedUpState {
     /// values differ was changed by the user since, and those are the user's own.
     #[cfg_attr(feature = "serde", serde(default))]
     cache_written: Option<(bool, f32)>,
+    /// The released bodies that wait, before they may be held again, until what
+    /// released them has slowed down ([`wave`]).
+    waves: wave::Waves,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,

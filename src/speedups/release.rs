@@ -83,7 +83,7 @@ impl SpeedUpState {
     /// (log bodies + boxes met)).
     // Long: one sweep per moving body over what it reaches, its joints and the momentum shared.
     fn reached(
-        &self,
+        &mut self,
         graph: &ContactGraph,
         view: &WorldView,
         refreshed: &[NodeId],
@@ -161,7 +161,10 @@ impl SpeedUpState {
                     seeds.push((other, 0.0));
                 }
             }
-            // The momentum is shared by what it reaches.
+            // The momentum is shared by what it reaches; what it releases joins its wave.
+            if seeds.len() > from {
+                self.waves.reached_from(h);
+            }
             let reached = (seeds.len() - from) as f32;
             for seed in &mut seeds[from..] {
                 seed.1 = budget / reached;

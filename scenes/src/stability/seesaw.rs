@@ -9,13 +9,14 @@
 //!
 //! Built against subgrouping (the paper's case: a sleepy body insulates, so the part
 //! of the lever it rests on is solved as if held) and, in this crate, against
-//! fixation: the box is held fixed while sleepy, and what releases a held body is a
-//! touching body whose *centre* moves faster than the release speed. A lever turning
-//! about its centre moves its ends fast but its centre not at all, so the box is never
-//! released, and the lever pushes against an immovable box. Measured: fixation jams the
-//! lever and the box is never thrown; subgrouping changes nothing (in Rapier the
-//! solver couples the whole island whatever the groups say, so it only changes which
-//! bodies are judged sleepy together).
+//! fixation: plank and box are held fixed while sleepy, and a lever turning about its
+//! centre moves its ends fast but its centre not at all. Measured: subgrouping
+//! changes nothing (in Rapier the solver couples the whole island whatever the groups
+//! say, so it only changes which bodies are judged sleepy together); under fixation
+//! the falling ball's reach releases plank and box before it lands, and they are not
+//! held again while the ball still moves (the release's wave), so the box is thrown
+//! as without fixation. Before waves the lever, sleepy again, was held with the box
+//! on it and jammed (an unresponsive body).
 
 use rapier3d::math::{Real, Vector};
 use rapier3d::prelude::{ColliderBuilder, RevoluteJointBuilder, RigidBodyBuilder};
