@@ -10,11 +10,13 @@ use super::ops::{grid, pick, raw, vel, Ty};
 use super::{Harness, Op};
 
 impl Harness {
-    /// Whether no collider is attached to, or moved onto, body `h` now: a disabled
-    /// multibody member (Rapier's solver panics in its warm start, with or without
-    /// the layer:
+    /// Whether no collider is attached to, or moved onto, body `h` now, nor its type
+    /// changed: a disabled multibody member (Rapier's solver panics in its warm start,
+    /// with or without the layer:
     /// `limit_a_collider_moved_onto_a_quarantined_multibody_root_panics_rapier` in
-    /// `tests/fuzz_regressions_held.rs`).
+    /// `tests/fuzz_regressions_held.rs`; its solver graph check fails after a type
+    /// change: `limit_a_disabled_multibody_root_with_a_collider_moved_onto_it_given_a_type`
+    /// in `tests/fuzz_regressions_joints.rs`).
     fn member_steered_off(&self, h: RigidBodyHandle) -> bool {
         self.steer
             && self.world.multibody_joints.rigid_body_link(h).is_some()
@@ -290,9 +292,14 @@ impl Harness {
                 // Rapier asserts that a multibody's non-root links are dynamic, and
                 // panics on a joint between a disabled body and a fixed (or
                 // kinematic) one.
+                // A disabled multibody member's type is left alone: with a collider
+                // moved onto it, Rapier's solver graph check fails in its next step
+                // (`limit_a_disabled_multibody_root_with_a_collider_moved_onto_it_given_a_type`
+                // in `tests/fuzz_regressions_joints.rs`).
                 let refused = |h: RigidBodyHandle| {
                     self.non_root_link(h)
                         || (!matches!(ty, Ty::Dynamic) && self.jointed_to(h, |rb| !rb.is_enabled()))
+                        || self.member_steered_off(h)
                 };
                 if let Some(h) = self.body(i).filter(|&h| !refused(h)) {
                     let sync = self.needs_sync(h);
