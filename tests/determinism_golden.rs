@@ -85,9 +85,9 @@ const GOLDEN_OBSERVE_EVENTS: u64 = 0x03d0_0f6e_58d4_d9f8;
 
 /// Every speed-up on, `enhanced-determinism`.
 const ED_ALL: [u64; 3] = [
-    0x81c9_f0ec_51d3_f254,
-    0xb47b_200e_cfdf_b9f9,
-    0x212d_b4b0_4b7e_4a92,
+    0xc1ff_eddb_f182_1cde,
+    0xe4a9_c8e3_bb1c_b974,
+    0x1163_ea72_80a3_d20e,
 ];
 /// `SpeedUps::none()`, `enhanced-determinism`.
 const ED_NONE: [u64; 3] = [

@@ -116,7 +116,7 @@ impl SpeedUpState {
         if c.hold {
             let up = up_of(view.gravity);
             self.decide_releases(graph, view, refreshed);
-            self.settle_waves(view);
+            self.settle_waves(view, changes.step);
             let deferred = self.decide_fixations(graph, view, refreshed, up);
             // A body whose fixation waits for a later pre-step stays awake meanwhile
             // (not sleep-eligible), so that it is held, not put to sleep by Rapier.

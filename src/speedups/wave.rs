@@ -32,7 +32,17 @@ pub(super) struct Waves {
     via: BTreeSet<u32>,
     /// The bodies that reached held ones since then: the releases' sources.
     from: Vec<RigidBodyHandle>,
+    /// Wave → the step at which it last grew.
+    grew: BTreeMap<u32, u64>,
+    /// The step of the last analysis that looked at the waves.
+    now: u64,
 }
+
+/// How long a wave waits at most after it last grew, in rests (`sleepy_steps`): long
+/// enough for a push to cross a pile (the waves of the disturbance scenes end within
+/// it), bounded so that a source that never stops (a turning kinematic fan) does not
+/// keep what it once released awake for good.
+pub(crate) const WAVE_MAX_RESTS: u64 = 20;
 
 impl Waves {
     /// Whether a body waits for its wave to end before it may be held again.
@@ -73,6 +83,7 @@ impl Waves {
         for w in via.iter().skip(1) {
             joining.extend(self.members.remove(w).unwrap_or_default());
             sources.extend(self.sources.remove(w).unwrap_or_default());
+            self.grew.remove(w);
         }
         let mut added = Vec::with_capacity(joining.len());
         for h in joining {
@@ -89,6 +100,7 @@ impl Waves {
             }
         }
         self.members.entry(id).or_default().extend(added);
+        self.grew.insert(id, self.now);
         let known = self.sources.entry(id).or_default();
         for h in sources {
             if !known.contains(&h) {
@@ -97,17 +109,23 @@ impl Waves {
         }
     }
 
-    /// Ends the waves none of whose sources `moves`: their members may be held
-    /// again. O(sources + members of the waves ended · log).
-    fn settle(&mut self, moves: impl Fn(RigidBodyHandle) -> bool) {
+    /// Ends, at step `now`, the waves none of whose sources `moves`, and those that
+    /// last grew more than `max_steps` ago: their members may be held again.
+    /// O(sources + members of the waves ended · log).
+    fn settle(&mut self, now: u64, max_steps: u64, moves: impl Fn(RigidBodyHandle) -> bool) {
+        self.now = now;
         let ended: Vec<u32> = self
             .sources
             .iter()
-            .filter(|(_, s)| !s.iter().any(|&h| moves(h)))
+            .filter(|&(w, s)| {
+                let grew = self.grew.get(w).copied().unwrap_or(now);
+                now.saturating_sub(grew) > max_steps || !s.iter().any(|&h| moves(h))
+            })
             .map(|(&w, _)| w)
             .collect();
         for w in ended {
             self.sources.remove(&w);
+            self.grew.remove(&w);
             for h in self.members.remove(&w).unwrap_or_default() {
                 if self.of.get(&key(h)) == Some(&w) {
                     self.of.remove(&key(h));
@@ -118,15 +136,18 @@ impl Waves {
 }
 
 impl SpeedUpState {
-    /// Ends the waves whose sources slowed down: no longer dynamic and faster than
-    /// `release_speed`, nor a moving kinematic body (or gone). O(sources of the
-    /// waiting waves + members of those ended · log).
-    pub(super) fn settle_waves(&mut self, view: &WorldView) {
+    /// Ends, at step `now`, the waves whose sources slowed down (none dynamic and
+    /// faster than `release_speed`, nor a moving kinematic body) or that last grew
+    /// more than [`WAVE_MAX_RESTS`] rests ago. O(sources of the waiting waves + members
+    /// of those ended · log).
+    pub(super) fn settle_waves(&mut self, view: &WorldView, now: u64) {
+        self.waves.now = now;
         if self.waves.sources.is_empty() {
             return;
         }
         let fast = self.config.release_speed;
-        self.waves.settle(|h| {
+        let max = WAVE_MAX_RESTS.saturating_mul(u64::from(self.config.sleepy_steps));
+        self.waves.settle(now, max, |h| {
             view.bodies.get(h).is_some_and(|rb| {
                 if rb.is_dynamic() {
                     rb.linvel().length() > fast
@@ -152,11 +173,32 @@ mod tests {
         w.reached_from(h(0));
         w.join(&[h(1), h(2)]);
         assert!(w.waits(h(1)) && w.waits(h(2)) && !w.waits(h(0)));
-        w.settle(|b| b == h(0));
+        w.settle(0, 100, |b| b == h(0));
         assert!(w.waits(h(1)), "the source still moves");
-        w.settle(|_| false);
+        w.settle(0, 100, |_| false);
         assert!(!w.waits(h(1)) && !w.waits(h(2)));
         assert!(w.members.is_empty() && w.sources.is_empty() && w.of.is_empty());
+    }
+
+    #[test]
+    fn a_wave_waits_at_most_its_bound_after_it_last_grew() {
+        let mut w = Waves::default();
+        w.settle(10, 100, |_| true);
+        w.reached_from(h(0));
+        w.join(&[h(1)]);
+        w.settle(110, 100, |_| true);
+        assert!(
+            w.waits(h(1)),
+            "100 steps after it grew, its source still moving"
+        );
+        // It grows at step 110: the bound counts from then.
+        w.reached_from(h(1));
+        w.join(&[h(2)]);
+        w.settle(210, 100, |_| true);
+        assert!(w.waits(h(1)) && w.waits(h(2)));
+        w.settle(211, 100, |_| true);
+        assert!(!w.waits(h(1)) && !w.waits(h(2)));
+        assert!(w.grew.is_empty());
     }
 
     #[test]
@@ -184,9 +226,9 @@ mod tests {
         assert_eq!(w.of[&key(h(2))], w.of[&key(h(1))]);
         assert_ne!(w.of[&key(h(5))], w.of[&key(h(1))]);
         // The first wave waits while h(1) moves, though h(0) stopped.
-        w.settle(|b| b == h(1) || b == h(9));
+        w.settle(0, 100, |b| b == h(1) || b == h(9));
         assert!(w.waits(h(2)) && w.waits(h(5)));
-        w.settle(|b| b == h(9));
+        w.settle(0, 100, |b| b == h(9));
         assert!(!w.waits(h(1)) && !w.waits(h(2)) && w.waits(h(5)));
     }
 
@@ -204,9 +246,9 @@ mod tests {
         let one = w.of[&key(h(3))];
         assert!([h(1), h(2), h(3)].iter().all(|&b| w.of[&key(b)] == one));
         assert_eq!(w.members.len(), 1);
-        w.settle(|b| b == h(9));
+        w.settle(0, 100, |b| b == h(9));
         assert!(w.waits(h(1)), "a source of the merged wave still moves");
-        w.settle(|_| false);
+        w.settle(0, 100, |_| false);
         assert!(w.of.is_empty());
     }
 }
