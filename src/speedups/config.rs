@@ -150,11 +150,12 @@ impl SpeedUps {
     /// set) and keeps its contacts as a sleeping one does; it is released before a
     /// moving body reaches it, with as much of its held group as the disturbance can
     /// move, and not held again while that body still moves; and when its support
-    /// goes (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to rest at once is held over a few steps, so that no
-    /// step pays Rapier's answer to a whole pile's change of type; releases are never
-    /// put off. The gain is on piles at rest; a pile that keeps being hit runs at about
-    /// stock Rapier's cost (`docs/results.md`). Not done yet: obeying an impulse or
-    /// velocity the user writes to a held body (Rapier drops writes to a fixed body).
+    /// goes (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to
+    /// rest at once is held over a few steps, so that no step pays Rapier's answer to
+    /// a whole pile's change of type; releases are never put off. The gain is on
+    /// piles at rest; a pile that keeps being hit runs at about stock Rapier's cost
+    /// (`docs/results.md`). Not done yet: obeying an impulse or velocity the user
+    /// writes to a held body (Rapier drops writes to a fixed body).
     ///
     /// The other presets: observe only is no speed-ups at all
     /// (`speedups_mut().set(None)`, the layer's default); [`Self::papers_fastest`].

@@ -14,17 +14,27 @@ use rapier3d::prelude::RigidBodyHandle;
 use super::{key, SpeedUpState};
 use crate::WorldView;
 
+/// A wave of released bodies still waiting.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+struct Wave {
+    /// Its members, in the order they joined.
+    members: Vec<RigidBodyHandle>,
+    /// Its sources, the moving bodies whose reach released its members: it waits
+    /// while one of them moves.
+    sources: Vec<RigidBodyHandle>,
+    /// The step at which it last grew.
+    grew: u64,
+}
+
 /// The waves of released bodies still waiting.
 #[derive(Clone, Debug, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct Waves {
     /// Body key → its wave.
     of: BTreeMap<(u32, u32), u32>,
-    /// Wave → its members, in the order they joined.
-    members: BTreeMap<u32, Vec<RigidBodyHandle>>,
-    /// Wave → its sources, the moving bodies whose reach released its members: it
-    /// waits while one of them moves.
-    sources: BTreeMap<u32, Vec<RigidBodyHandle>>,
+    /// The waves by number.
+    by_id: BTreeMap<u32, Wave>,
     /// The next wave's number.
     next: u32,
     /// The waves of the bodies that reached held ones since the last releases were
@@ -32,8 +42,6 @@ pub(super) struct Waves {
     via: BTreeSet<u32>,
     /// The bodies that reached held ones since then: the releases' sources.
     from: Vec<RigidBodyHandle>,
-    /// Wave → the step at which it last grew.
-    grew: BTreeMap<u32, u64>,
     /// The step of the last analysis that looked at the waves.
     now: u64,
 }
@@ -79,34 +87,38 @@ impl Waves {
                 w
             }
         };
+        let mut wave = self.by_id.remove(&id).unwrap_or(Wave {
+            members: Vec::new(),
+            sources: Vec::new(),
+            grew: self.now,
+        });
         let mut joining: Vec<RigidBodyHandle> = released.to_vec();
         for w in via.iter().skip(1) {
-            joining.extend(self.members.remove(w).unwrap_or_default());
-            sources.extend(self.sources.remove(w).unwrap_or_default());
-            self.grew.remove(w);
+            if let Some(merged) = self.by_id.remove(w) {
+                joining.extend(merged.members);
+                sources.extend(merged.sources);
+            }
         }
-        let mut added = Vec::with_capacity(joining.len());
         for h in joining {
             match self.of.insert(key(h), id) {
                 Some(old) if old == id => {}
                 Some(old) => {
                     // A member of a wave not merged (released again): it leaves it.
-                    if let Some(m) = self.members.get_mut(&old) {
-                        m.retain(|&x| x != h);
+                    if let Some(o) = self.by_id.get_mut(&old) {
+                        o.members.retain(|&x| x != h);
                     }
-                    added.push(h);
+                    wave.members.push(h);
                 }
-                None => added.push(h),
+                None => wave.members.push(h),
             }
         }
-        self.members.entry(id).or_default().extend(added);
-        self.grew.insert(id, self.now);
-        let known = self.sources.entry(id).or_default();
+        wave.grew = self.now;
         for h in sources {
-            if !known.contains(&h) {
-                known.push(h);
+            if !wave.sources.contains(&h) {
+                wave.sources.push(h);
             }
         }
+        self.by_id.insert(id, wave);
     }
 
     /// Ends, at step `now`, the waves none of whose sources `moves`, and those that
@@ -115,19 +127,21 @@ impl Waves {
     fn settle(&mut self, now: u64, max_steps: u64, moves: impl Fn(RigidBodyHandle) -> bool) {
         self.now = now;
         let ended: Vec<u32> = self
-            .sources
+            .by_id
             .iter()
-            .filter(|&(w, s)| {
-                let grew = self.grew.get(w).copied().unwrap_or(now);
-                now.saturating_sub(grew) > max_steps || !s.iter().any(|&h| moves(h))
+            .filter(|(_, w)| {
+                now.saturating_sub(w.grew) > max_steps || !w.sources.iter().any(|&h| moves(h))
             })
-            .map(|(&w, _)| w)
+            .map(|(&id, _)| id)
             .collect();
-        for w in ended {
-            self.sources.remove(&w);
-            self.grew.remove(&w);
-            for h in self.members.remove(&w).unwrap_or_default() {
-                if self.of.get(&key(h)) == Some(&w) {
+        for id in ended {
+            for h in self
+                .by_id
+                .remove(&id)
+                .map(|w| w.members)
+                .unwrap_or_default()
+            {
+                if self.of.get(&key(h)) == Some(&id) {
                     self.of.remove(&key(h));
                 }
             }
@@ -141,10 +155,6 @@ impl SpeedUpState {
     /// more than [`WAVE_MAX_RESTS`] rests ago. O(sources of the waiting waves + members
     /// of those ended · log).
     pub(super) fn settle_waves(&mut self, view: &WorldView, now: u64) {
-        self.waves.now = now;
-        if self.waves.sources.is_empty() {
-            return;
-        }
         let fast = self.config.release_speed;
         let max = WAVE_MAX_RESTS.saturating_mul(u64::from(self.config.sleepy_steps));
         self.waves.settle(now, max, |h| {
@@ -177,7 +187,7 @@ mod tests {
         assert!(w.waits(h(1)), "the source still moves");
         w.settle(0, 100, |_| false);
         assert!(!w.waits(h(1)) && !w.waits(h(2)));
-        assert!(w.members.is_empty() && w.sources.is_empty() && w.of.is_empty());
+        assert!(w.by_id.is_empty() && w.of.is_empty());
     }
 
     #[test]
@@ -198,7 +208,7 @@ mod tests {
         assert!(w.waits(h(1)) && w.waits(h(2)));
         w.settle(211, 100, |_| true);
         assert!(!w.waits(h(1)) && !w.waits(h(2)));
-        assert!(w.grew.is_empty());
+        assert!(w.by_id.is_empty());
     }
 
     #[test]
@@ -245,7 +255,7 @@ mod tests {
         w.join(&[h(3)]);
         let one = w.of[&key(h(3))];
         assert!([h(1), h(2), h(3)].iter().all(|&b| w.of[&key(b)] == one));
-        assert_eq!(w.members.len(), 1);
+        assert_eq!(w.by_id.len(), 1);
         w.settle(0, 100, |b| b == h(9));
         assert!(w.waits(h(1)), "a source of the merged wave still moves");
         w.settle(0, 100, |_| false);
