@@ -62,6 +62,9 @@
 //! cargo bench --bench held -- --scene mixed --hit 1000 --steps 1600   # hit at 10 s
 //! RCG_HELD_ALONE=held cargo bench --bench held -- --scene boxes --steps 200000
 //!                                                  # one settled world alone, for `perf`
+//! RCG_HELD_ALONE=held RCG_HELD_ALONE_FROM=100 cargo bench --bench held -- --scene mixed
+//!     --steps 200 --tail 100                       # the same world while it falls
+//! cargo bench --bench held -- --scene mixed --windows 200   # the run in windows
 //! ```
 
 use clap::Parser;
@@ -114,6 +117,11 @@ struct Args {
     /// one).
     #[arg(long, value_name = "N")]
     phases: Option<usize>,
+    /// Also print, for each run, the steps in windows of `N`: stock's and the held
+    /// world's time in each and their ratio (where the whole run's ratio comes from:
+    /// the fall, the settling, the hit). Only the steps timed one by one.
+    #[arg(long, value_name = "N")]
+    windows: Option<usize>,
     /// Throw the heavy ball of the lab's `bin_hit` scene into both worlds before step
     /// `STEP` (the bins `mixed` and `spheres` only; before the settled tail) and report
     /// the bodies displaced from the hit to the end in each world (see `held/hit.rs`).
@@ -539,6 +547,11 @@ fn main() {
             sum(&r.held)
         );
         println!("  settled     held/stock  {}", spread(settled));
+        if let Some(w) = args.windows.filter(|&w| w > 0) {
+            for r in &runs {
+                print_windows(r, w, args.steps - args.tail);
+            }
+        }
         if let Some(at) = args.hit {
             let hits: Option<Vec<_>> = runs
                 .iter()
@@ -593,6 +606,20 @@ fn main() {
     }
 }
 
+/// One run's steps in windows of `w` (up to step `upto`, the steps timed one by one):
+/// stock's and the held world's milliseconds in each, and held / stock.
+fn print_windows(r: &Run, w: usize, upto: usize) {
+    let mut line = String::from("  windows, from step: ms stock / held = ratio:");
+    let mut i = 0;
+    while i < upto.min(r.stock.len()) {
+        let e = (i + w).min(upto).min(r.stock.len());
+        let (s, h) = (sum(&r.stock[i..e]), sum(&r.held[i..e]));
+        line += &format!("  {i}: {:.1} / {:.1} = {:.2}", s * 1e3, h * 1e3, h / s);
+        i = e;
+    }
+    println!("{line}");
+}
+
 /// One settled world alone (see `main`).
 fn alone(scene: &str, which: &str, args: &Args) {
     let mut w = build(scene).expect("scene");
@@ -603,7 +630,13 @@ fn alone(scene: &str, which: &str, args: &Args) {
             layer.step(w);
         }
     };
-    for _ in 0..1000 {
+    // Timed from step `RCG_HELD_ALONE_FROM` (1,000 unless set: the settled world;
+    // 0 or 100 profile the fall).
+    let from = std::env::var("RCG_HELD_ALONE_FROM")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000);
+    for _ in 0..from {
         step(&mut w);
     }
     let t = StepClock::now();

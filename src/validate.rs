@@ -51,6 +51,9 @@ pub(crate) fn validate_layer(layer: &ContactLayer, view: &WorldView) -> Result<(
     check.contacts()?;
     check.triggers()?;
     check.containers()?;
+    if let Some(s) = layer.speedups() {
+        s.check_held_boxes(view).or_else(fail)?;
+    }
     check.groups()
 }
 

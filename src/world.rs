@@ -28,9 +28,9 @@ pub struct WorldView<'a> {
     pub colliders: &'a ColliderSet,
     /// The narrow phase (its contact pairs become physical edges).
     pub narrow_phase: &'a NarrowPhase,
-    /// The broad phase, if at hand: the speed-ups ask it which held bodies a moving
-    /// body is about to reach (see `SpeedUps::release_speed`); without
-    /// it they release only the held bodies a moving body already touches.
+    /// The broad phase, if at hand. Not read by the layer: the speed-ups look a
+    /// moving body's reach up among the held bodies' own boxes (see
+    /// `SpeedUps::release_speed`). Kept so that views built by hand still compile.
     pub broad_phase: Option<&'a BroadPhaseBvh>,
     /// Islands (the active set tells which bodies are awake).
     pub islands: &'a IslandManager,

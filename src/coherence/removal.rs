@@ -37,7 +37,16 @@ impl Coherence {
                 self.stale.push(n);
             }
             self.kind_changes += 1;
-            groups.disturb(graph, n);
+            // A body turned from insulator to member (a held body released) joins the
+            // groups around it, one turned insulator leaves its group; any other change
+            // of kind rebuilds its group.
+            match graph
+                .node(n)
+                .map(|node| (node.kind().is_insulator(), node.group.is_some()))
+            {
+                Some((false, false) | (true, true)) => groups.membership_changed(n),
+                _ => groups.disturb(graph, n),
+            }
         }
         for mut e in std::mem::take(&mut graph.dropped) {
             groups.disturb(graph, e.a);

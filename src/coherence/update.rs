@@ -454,8 +454,8 @@ impl Coherence {
         // merge or a split; an edge removed from the graph leaves its group by the
         // graph's own record), a body woke or slept (its group's sleep), became passive
         // (above), changed kind or appeared (in `take_dropped` and node upkeep: those
-        // are rebuilt). A refreshed body without a group (first seen, released) is a
-        // root too.
+        // are rebuilt). A refreshed body without a group (first seen, released) joins
+        // the groups around it.
         for &eid in &self.touched {
             let Some(e) = graph.edge(eid) else {
                 continue;
@@ -471,8 +471,10 @@ impl Coherence {
             let ungrouped = graph
                 .node(me)
                 .is_some_and(|n| n.kind.is_simulated() && n.group.is_none() && !n.passive);
-            if ungrouped || self.passive_changed.contains(&me) {
+            if self.passive_changed.contains(&me) {
                 groups.disturb(graph, me);
+            } else if ungrouped {
+                groups.membership_changed(me);
             }
         }
     }

@@ -29,6 +29,7 @@ impl Groups {
             && self.ended.is_empty()
             && self.roots.is_empty()
             && self.flips.is_empty()
+            && self.membership.is_empty()
             && self.began.is_empty()
             && self.deferred.is_empty()
             && touched.is_empty()
@@ -61,7 +62,10 @@ impl Groups {
                 self.cuts.push((a, b));
             }
         }
-        // 2. Dissolved groups and disturbed nodes, from scratch.
+        // 2. Members turned insulators leave their groups, members without a group
+        //    enter (their edges join in 4); then dissolved groups and disturbed nodes,
+        //    from scratch.
+        self.apply_membership(graph, step, insulates);
         self.build_from_roots(graph, step, insulates);
         // 3. Sleep, where a member's awake flag changed.
         let mut flips = std::mem::take(&mut self.flips);

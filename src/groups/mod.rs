@@ -8,8 +8,12 @@
 //! expansions) whose smaller side leaves (`split.rs`); a group whose search runs out
 //! is deferred, and at most one deferred group a step (the sleepiest) is rebuilt by
 //! the paper's traversal (`traverse.rs`; [`crate::LayerAnalysisMut::settle_groups`]
-//! rebuilds all). Everything else that changes which bodies may be grouped dissolves
-//! the groups concerned and the traversal rebuilds them.
+//! rebuilds all). A member turning insulator leaves its group, split as an ended
+//! contact would be, and a body turning member (an insulator no longer, or a body
+//! without a group) joins the groups around it as a contact that began would
+//! (`insulation.rs`: under subgrouping, sleepy bodies; held bodies released).
+//! Everything else that changes which bodies may be grouped dissolves the groups
+//! concerned and the traversal rebuilds them.
 //!
 //! **What a query sees.** Exact at the end of every step, except that a deferred
 //! group ([`Groups::deferred`], [`GroupStats::deferred`]) may be the union of whole
@@ -23,16 +27,17 @@
 
 mod check;
 mod incremental;
+mod insulation;
 mod split;
 mod traverse;
 
 use crate::graph::{Arena, ContactGraph, EdgeId, EdgeKind, NodeId, NodeKind, NO_SLOT};
 
 /// A contact group's id: generational, valid while the group lives. A group lives
-/// until it is dissolved (a member removed, made passive or changing kind; under
-/// subgrouping a member becoming sleepy or not), merged into a larger group, or
-/// rebuilt by a full split; it keeps its id through merges of smaller groups into it
-/// and splits that take a part away.
+/// until it is dissolved (a member removed, made passive or changing kind), merged
+/// into a larger group, or rebuilt by a full split; it keeps its id through merges of
+/// smaller groups into it, splits that take a part away, and (under subgrouping) a
+/// member leaving it as it turns sleepy.
 #[repr(transparent)]
 #[derive(Copy, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -204,6 +209,10 @@ pub struct Groups {
     /// Members whose awake flag changed this step (scratch).
     #[cfg_attr(feature = "serde", serde(skip))]
     flips: Vec<NodeId>,
+    /// Nodes that may have become members or stopped being members this step, as
+    /// insulators turning members or members turning insulators (scratch).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    membership: Vec<NodeId>,
     /// Ends of the step's ended edges, to be searched for a split (scratch).
     #[cfg_attr(feature = "serde", serde(skip))]
     cuts: Vec<(NodeId, NodeId)>,
@@ -235,6 +244,7 @@ impl Default for Groups {
             began: Vec::new(),
             ended: Vec::new(),
             flips: Vec::new(),
+            membership: Vec::new(),
             cuts: Vec::new(),
             fronts: Default::default(),
             changed: 0,
@@ -429,6 +439,7 @@ impl Groups {
         self.began.clear();
         self.ended.clear();
         self.flips.clear();
+        self.membership.clear();
         self.deferred.clear();
     }
 

@@ -119,7 +119,7 @@ impl ContactLayer {
                 if s.config().insulate_sleepy {
                     // Woken bodies stop insulating: regroup them.
                     for n in woken {
-                        self.groups.disturb(&mut self.graph, n);
+                        self.groups.membership_changed(n);
                     }
                 }
             }
@@ -261,7 +261,7 @@ impl ContactLayer {
             if s.config().insulate_sleepy {
                 for &h in &s.sleepy_changed {
                     if let Some(n) = self.graph.node_of_body(h) {
-                        self.groups.disturb(&mut self.graph, n);
+                        self.groups.membership_changed(n);
                     }
                 }
             }

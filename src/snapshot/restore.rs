@@ -118,7 +118,7 @@ impl ContactLayer {
         state.groups.reindex(&mut state.graph);
         state.graph.recount_geometric();
         if let Some(s) = &mut state.speedups {
-            s.reindex();
+            s.reindex(&view);
         }
         check_state(&state).map_err(|e| Error::Invariant(format!("snapshot: {e}")))?;
         bind_predicates(&mut state.logic, bind)?;

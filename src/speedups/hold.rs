@@ -109,21 +109,50 @@ impl SpeedUpState {
     /// O(its supporters · log).
     fn unhold(&mut self, k: (u32, u32)) -> Option<Held> {
         let held = self.held.remove(&k)?;
+        self.held_boxes.take_out(held.handle);
         self.forget_dependents(k, &held);
         Some(held)
     }
 
-    /// Builds the indexes left out of snapshots (the dependents and links indexes)
-    /// from the held records; the restore calls it. O(held bodies' supporters and
-    /// links · log).
+    /// Builds the indexes left out of snapshots (the dependents and links indexes, the
+    /// held bodies' boxes) from the held records; the restore calls it. O(held bodies'
+    /// supporters, links and colliders · log).
     #[cfg_attr(not(feature = "serde"), allow(dead_code))] // only the snapshot restore calls it
-    pub(crate) fn reindex(&mut self) {
+    pub(crate) fn reindex(&mut self, view: &WorldView) {
+        self.held_boxes = super::held_boxes::HeldBoxes::of(&self.held, view.bodies, view.colliders);
         self.dependents = self.dependents_of_records();
         self.linked = self
             .held
             .iter()
             .flat_map(|(k, held)| held.links.iter().map(move |&l| (key(l), *k)))
             .collect();
+    }
+
+    /// Checks the held bodies' boxes against the held records: every box of a live
+    /// collider on its live body is one a tree built anew from the records holds (no
+    /// box of a released body, none of a collider moved to another body). A box may
+    /// be missing or stale meanwhile where the user changed a held body's colliders
+    /// in place: read again when the collider or body count changes or the body is
+    /// refreshed, as the graph reads such changes. O(held · colliders · log).
+    pub(crate) fn check_held_boxes(&self, view: &WorldView) -> Result<(), String> {
+        let anew = super::held_boxes::HeldBoxes::of(&self.held, view.bodies, view.colliders);
+        let anew: std::collections::BTreeSet<(usize, (u32, u32), (u32, u32))> = anew
+            .entries()
+            .map(|(l, c, h)| (l, c.into_raw_parts(), key(h)))
+            .collect();
+        let live = |&(_, c, h): &(usize, rapier3d::prelude::ColliderHandle, RigidBodyHandle)| {
+            view.bodies.contains(h)
+                && view
+                    .colliders
+                    .get(c)
+                    .is_some_and(|co| co.parent() == Some(h))
+        };
+        match self.held_boxes.entries().filter(live).find(|&(l, c, h)| !anew.contains(&(l, c.into_raw_parts(), key(h)))) {
+            None => Ok(()),
+            Some((leaf, c, h)) => Err(format!(
+                "the held bodies' boxes hold collider {c:?} of body {h:?} (leaf {leaf}), which the held records do not"
+            )),
+        }
     }
 
     /// The dependents index as the held records give it. O(held bodies' supporters ·
@@ -287,6 +316,7 @@ impl SpeedUpState {
                 links,
             };
             rb.set_body_type(RigidBodyType::Fixed, false);
+            self.held_boxes.put(world.bodies, world.colliders, h);
             self.hold(held);
             self.unparked.insert(key(h));
             self.newly_held.push(key(h));
@@ -297,10 +327,12 @@ impl SpeedUpState {
     /// Forgets the bodies removed while held, and counts the held and parked bodies.
     /// O(held) when the body count changed, else O(1).
     pub(super) fn forget_removed(&mut self, world: &WorldMut, counts_changed: bool) {
-        // Bodies removed while held are forgotten: looked for when the body count
-        // changed (O(held)); a body removed and another inserted between two steps
-        // leaves a stale entry until the count changes, which is harmless (handles
-        // carry their generation, and every use of a held handle checks it exists).
+        // Bodies removed while held are forgotten, and the held bodies' boxes read
+        // again where their colliders changed: looked for when the body or collider
+        // count changed (O(held)); a body removed and another inserted between two
+        // steps leaves a stale entry until the count changes, which is harmless
+        // (handles carry their generation, and every use of a held handle checks it
+        // exists).
         self.stats.parked = self.held.len().saturating_sub(self.unparked.len());
         if !counts_changed {
             self.stats.fixated = self.held.len();
@@ -317,6 +349,8 @@ impl SpeedUpState {
             self.unparked.remove(&k);
             self.support_dirty = true;
         }
+        let held = self.held.values().map(|h| h.handle);
+        self.held_boxes.resync(world.bodies, world.colliders, held);
         self.stats.fixated = self.held.len();
     }
 

@@ -49,6 +49,7 @@ impl SpeedUpState {
             stats: SpeedUpStats::default(),
             sleepy_changed: Vec::new(),
             waves: Default::default(),
+            held_boxes: Default::default(),
             detached: false,
             restored: false,
         }
@@ -85,6 +86,7 @@ impl SpeedUpState {
         mods: &mut ContactMods,
         user_passive: &dyn Fn(RigidBodyHandle) -> bool,
     ) {
+        self.held_boxes = Default::default();
         for (_, held) in std::mem::take(&mut self.held) {
             held.give_back(world, user_passive);
             self.hold_changes.push((held.handle, true));

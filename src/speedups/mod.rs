@@ -24,13 +24,14 @@
 //!   exactly, before a moving body reaches it, with as much of its held group as the
 //!   disturbance can move, when its support goes, or when the user changes its type
 //!   (`release.rs`); what a moving body released is not held again while that body
-//!   still moves (`wave.rs`). O(refreshed bodies' contacts + fast bodies × log bodies
+//!   still moves (`wave.rs`). O(refreshed bodies' contacts + fast bodies × log held
 //!   + held bodies the step's changes reach).
 //!
 //! Per step, O(awake bodies) for the energy tracking, plus O(changes) Rapier writes;
 //! a full pass over the bodies only when the configuration or the body count changes.
 
 mod config;
+mod held_boxes; // the held bodies' colliders in a tree of their own, for the reach
 mod hold; // fixation: held records, hold decisions, holds and releases applied
 mod lifecycle; // new, reconfigure, detach, and the restore of the user's world
 mod park; // held bodies taken out of Rapier's active set
@@ -178,6 +179,10 @@ pub struct SpeedUpState {
     /// The released bodies that wait, before they may be held again, until what
     /// released them has slowed down ([`wave`]).
     waves: wave::Waves,
+    /// The held bodies' colliders by their boxes, for the reach (`held_boxes.rs`);
+    /// left out of snapshots, rebuilt from `held`.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    held_boxes: held_boxes::HeldBoxes,
     /// Switched off: the next pre-step restores the world, then the state is dropped.
     detached: bool,
     restored: bool,

@@ -4,10 +4,10 @@
 //! must free it *before* the contact is solved, and free with it whatever the
 //! disturbance reaches, as Rapier wakes a sleeping island whole (paper §7, fixation).
 //! - **Reach**: a body moving faster than `release_speed` frees the held bodies it
-//!   heads towards whose broad-phase boxes lie within its motion over the next steps
-//!   ([`REACH_STEPS`]), read from Rapier's broad phase; a moving kinematic body, all
-//!   of them; without a broad phase (a hand-built [`WorldView`]), the held bodies it
-//!   touches. Either also frees the held bodies jointed to it.
+//!   heads towards whose colliders' boxes lie within its motion over the next steps
+//!   ([`REACH_STEPS`]), looked up in the layer's own tree of held bodies' boxes
+//!   (`held_boxes.rs`); a moving kinematic body, all of them. Either also frees the
+//!   held bodies jointed to it.
 //! - **Group**: the release spreads from a reached body to the held bodies it touched
 //!   when it was held, or that touched it, nearest first, as far as the reaching
 //!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
@@ -18,14 +18,13 @@
 //!   what rests on it, transitively.
 //! - **Owner**: a held body the user turned into another type is the user's again.
 //!
-//! Cost: O(fast bodies × (log bodies + boxes met)) per step while anything is held;
-//! O(released bodies × their links · log) per release.
+//! Cost: O(fast bodies × (log held boxes + held boxes met)) per step while anything
+//! is held; O(released bodies × their links · log) per release.
 
 use std::collections::BTreeSet;
 
 use rapier3d::parry::bounding_volume::BoundingVolume;
-use rapier3d::parry::query::DefaultQueryDispatcher;
-use rapier3d::prelude::{QueryFilter, QueryFilterFlags, RigidBodyHandle};
+use rapier3d::prelude::RigidBodyHandle;
 
 use super::{key, SpeedUpState};
 use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind};
@@ -48,7 +47,7 @@ type Seed = (RigidBodyHandle, f32);
 impl SpeedUpState {
     /// Decides this step's releases: the held bodies the user took back, those a
     /// moving body is about to reach, each spread through the held group as far as
-    /// it reaches. O(refreshed bodies + fast bodies × (log bodies + boxes met) +
+    /// it reaches. O(refreshed bodies + fast bodies × (log held + held boxes met) +
     /// released bodies × their links · log).
     pub(super) fn decide_releases(
         &mut self,
@@ -59,6 +58,13 @@ impl SpeedUpState {
         if self.held.is_empty() {
             return;
         }
+        let held = &self.held;
+        let refreshed_held = refreshed
+            .iter()
+            .filter_map(|&n| graph.body_of(n))
+            .filter(|&h| held.contains_key(&key(h)));
+        self.held_boxes
+            .refresh(view.bodies, view.colliders, refreshed_held);
         let mut seeds: Vec<Seed> = Vec::new();
         self.taken_back(graph, view, refreshed, &mut seeds);
         self.reached(graph, view, refreshed, &mut seeds);
@@ -80,7 +86,7 @@ impl SpeedUpState {
     /// The held bodies a moving body is about to reach (see the module doc): each
     /// refreshed body faster than `release_speed` that is not sleepy, and each moving
     /// kinematic body, with the mass its momentum may set moving. O(such bodies ×
-    /// (log bodies + boxes met)).
+    /// (log held + held boxes met)).
     // Long: one sweep per moving body over what it reaches, its joints and the momentum shared.
     fn reached(
         &mut self,
@@ -117,42 +123,19 @@ impl SpeedUpState {
                 f32::INFINITY
             };
             let from = seeds.len();
-            match view.broad_phase {
-                Some(bp) => {
-                    let reach = (speed * view.dt * REACH_STEPS).max(0.0);
-                    let filter = QueryFilter::from(
-                        QueryFilterFlags::ONLY_FIXED | QueryFilterFlags::EXCLUDE_SENSORS,
-                    );
-                    let query = bp.as_query_pipeline(
-                        &DefaultQueryDispatcher,
-                        view.bodies,
-                        view.colliders,
-                        filter,
-                    );
-                    for &c in rb.colliders() {
-                        let Some(co) = view.colliders.get(c) else {
-                            continue;
-                        };
-                        let aabb = co.compute_aabb().loosened(reach);
-                        seeds.extend(
-                            query
-                                .intersect_aabb_conservative(aabb)
-                                .filter_map(|(_, other)| other.parent())
-                                .filter(|&p| p != h && self.is_fixated(p))
-                                .filter(|&p| !simulated || approaches(view, rb, p))
-                                .map(|p| (p, 0.0)),
-                        );
-                    }
-                }
-                // No broad phase to ask: the held bodies it touches.
-                None => {
-                    for (m, _, e) in graph.neighbors(n) {
-                        if e.kind() == EdgeKind::Physical && e.is_touching() {
-                            let hit = graph.body_of(m).filter(|&mh| self.is_fixated(mh));
-                            seeds.extend(hit.map(|mh| (mh, 0.0)));
-                        }
-                    }
-                }
+            let reach = (speed * view.dt * REACH_STEPS).max(0.0);
+            for &c in rb.colliders() {
+                let Some(co) = view.colliders.get(c) else {
+                    continue;
+                };
+                let aabb = co.compute_aabb().loosened(reach);
+                seeds.extend(
+                    self.held_boxes
+                        .meeting(&aabb)
+                        .filter(|&p| p != h && self.is_fixated(p))
+                        .filter(|&p| !simulated || approaches(view, rb, p))
+                        .map(|p| (p, 0.0)),
+                );
             }
             // What it drags by a joint.
             for (b1, b2, _, _) in view.impulse_joints.attached_joints(h) {
