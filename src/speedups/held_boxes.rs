@@ -19,6 +19,9 @@ use rapier3d::parry::bounding_volume::Aabb;
 use rapier3d::parry::partitioning::Bvh;
 use rapier3d::prelude::{ColliderHandle, ColliderSet, RigidBodyHandle, RigidBodySet};
 
+/// A box of the tree: its leaf, its collider, the held body.
+pub(super) type Entry = (usize, ColliderHandle, RigidBodyHandle);
+
 /// The colliders of held bodies, by the boxes they take up.
 #[derive(Clone, Default)]
 pub(super) struct HeldBoxes {
@@ -107,9 +110,7 @@ impl HeldBoxes {
     }
 
     /// The boxes, each as (leaf, collider, body), in leaf order. O(leaf slots).
-    pub(super) fn entries(
-        &self,
-    ) -> impl Iterator<Item = (usize, ColliderHandle, RigidBodyHandle)> + '_ {
+    pub(super) fn entries(&self) -> impl Iterator<Item = Entry> + '_ {
         self.leaves
             .iter()
             .enumerate()
@@ -223,7 +224,7 @@ impl HeldHandle for RigidBodyHandle {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{BTreeMap, HeldBoxes};
     use rapier3d::prelude::*;
 
     fn world() -> (PhysicsWorld, Vec<RigidBodyHandle>) {

@@ -136,18 +136,16 @@ impl SpeedUpState {
     /// refreshed, as the graph reads such changes. O(held · colliders · log).
     pub(crate) fn check_held_boxes(&self, view: &WorldView) -> Result<(), String> {
         let anew = super::held_boxes::HeldBoxes::of(&self.held, view.bodies, view.colliders);
-        let anew: std::collections::BTreeSet<(usize, (u32, u32), (u32, u32))> = anew
-            .entries()
-            .map(|(l, c, h)| (l, c.into_raw_parts(), key(h)))
-            .collect();
-        let live = |&(_, c, h): &(usize, rapier3d::prelude::ColliderHandle, RigidBodyHandle)| {
+        let raw = |(l, c, h): super::held_boxes::Entry| (l, c.into_raw_parts(), key(h));
+        let anew: std::collections::BTreeSet<_> = anew.entries().map(raw).collect();
+        let live = |&(_, c, h): &super::held_boxes::Entry| {
             view.bodies.contains(h)
                 && view
                     .colliders
                     .get(c)
                     .is_some_and(|co| co.parent() == Some(h))
         };
-        match self.held_boxes.entries().filter(live).find(|&(l, c, h)| !anew.contains(&(l, c.into_raw_parts(), key(h)))) {
+        match self.held_boxes.entries().filter(live).find(|&e| !anew.contains(&raw(e))) {
             None => Ok(()),
             Some((leaf, c, h)) => Err(format!(
                 "the held bodies' boxes hold collider {c:?} of body {h:?} (leaf {leaf}), which the held records do not"
