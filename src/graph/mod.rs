@@ -287,6 +287,12 @@ impl ContactGraph {
         self.edges.len()
     }
 
+    /// The `k`-th edge of node `n` (none past its last, or for a stale id): for loops
+    /// that change edges' fields while they walk a node's list by index. O(1).
+    pub(crate) fn nth_edge(&self, n: NodeId, k: usize) -> Option<EdgeId> {
+        self.node(n).and_then(|node| node.edges.get(k).copied())
+    }
+
     /// The neighbours of `n` with the joining edge, in edge insertion order.
     /// Empty for a stale id. O(degree).
     pub fn neighbors(&self, n: NodeId) -> impl Iterator<Item = (NodeId, EdgeId, &Edge)> + '_ {

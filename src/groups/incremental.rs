@@ -140,7 +140,7 @@ impl Groups {
     /// are members of the group (a split is then possible). O(1), O(edges) when the
     /// slot is stale.
     #[allow(clippy::too_many_arguments)]
-    fn take_edge(
+    pub(super) fn take_edge(
         &mut self,
         graph: &mut ContactGraph,
         gid: GroupId,

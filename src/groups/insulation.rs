@@ -19,8 +19,9 @@
 //! Cost: O(the node's edges · log insulators + the step's queued searches) per
 //! flip, plus the merges and the bounded split searches this queues.
 
-use crate::graph::{ContactGraph, EdgeId, NodeId, NO_SLOT};
+use crate::graph::{ContactGraph, NodeId};
 
+use super::incremental::group_of_ends;
 use super::{member_kind, traversable, Group, GroupId, Groups, Insulates};
 
 impl Groups {
@@ -71,33 +72,36 @@ impl Groups {
             self.dissolve(graph, gid);
             return;
         }
-        self.file_out(gid);
+        // Its edges to insulators leave the group (between two insulators now, in
+        // none); those to members stay, as the group's edges to an insulator.
         let mut neighbours: Vec<NodeId> = Vec::new();
-        let edges: Vec<EdgeId> = graph.node(n).map(|m| m.edges.clone()).unwrap_or_default();
-        let Some(g) = self.arena.get_mut(gid.index(), gid.generation()) else {
-            return;
-        };
-        for eid in edges {
+        let degree = graph.node(n).map_or(0, |node| node.edges.len());
+        for k in 0..degree {
+            let Some(eid) = graph.nth_edge(n, k) else {
+                break;
+            };
             let Some(e) = graph.edge(eid) else { continue };
-            let pos = e.group_slot as usize;
-            if g.edges.get(pos) != Some(&eid) {
+            let (a, b, at, counted) = (e.a, e.b, e.group_slot, e.group_counted);
+            if self
+                .get(gid)
+                .is_none_or(|g| g.edges.get(at as usize) != Some(&eid))
+            {
                 continue; // not one of the group's edges
             }
             let Some(m) = e.other(n) else { continue };
             if graph.node(m).and_then(|x| x.group) == Some(gid) {
-                g.link(n, 1);
                 neighbours.push(m);
             } else {
-                // Between two insulators now: in no group.
-                let counted = e.group_counted;
-                g.take_edge_at(graph, pos);
-                g.contacts = g.contacts.saturating_sub(counted);
-                g.unlink(m);
-                if let Some(e) = graph.edge_mut(eid) {
-                    e.group_slot = NO_SLOT;
-                    e.group_counted = 0;
-                }
+                self.take_edge(graph, gid, eid, at, counted, a, b);
             }
+        }
+        self.file_out(gid);
+        let Some(g) = self.arena.get_mut(gid.index(), gid.generation()) else {
+            return;
+        };
+        // One link for each of its edges to a member.
+        if !neighbours.is_empty() {
+            g.link(n, u32::try_from(neighbours.len()).unwrap_or(u32::MAX));
         }
         g.take_body_at(graph, slot);
         g.built_step = step;
@@ -144,30 +148,19 @@ impl Groups {
     /// the insulator), so that the update's merges join the groups around it.
     /// O(its edges · log insulators).
     fn enter(&mut self, graph: &mut ContactGraph, n: NodeId, step: u64) {
-        let edges: Vec<EdgeId> = graph.node(n).map(|m| m.edges.clone()).unwrap_or_default();
-        for &eid in &edges {
+        let degree = graph.node(n).map_or(0, |node| node.edges.len());
+        for k in 0..degree {
+            let Some(eid) = graph.nth_edge(n, k) else {
+                break;
+            };
             let Some(e) = graph.edge(eid) else { continue };
             if !traversable(e.kind, e.cache.touching) {
                 continue;
             }
-            let (slot, counted) = (e.group_slot, e.group_counted);
-            let holder = e.other(n).and_then(|m| graph.node(m)).and_then(|m| m.group);
-            if let Some(hid) = holder.filter(|&h| {
-                self.get(h)
-                    .is_some_and(|g| g.edges.get(slot as usize) == Some(&eid))
-            }) {
-                self.file_out(hid);
-                if let Some(g) = self.arena.get_mut(hid.index(), hid.generation()) {
-                    g.take_edge_at(graph, slot as usize);
-                    g.contacts = g.contacts.saturating_sub(counted);
-                    g.unlink(n);
-                    g.built_step = step;
-                }
-                self.file_in(hid);
-                if let Some(e) = graph.edge_mut(eid) {
-                    e.group_slot = NO_SLOT;
-                    e.group_counted = 0;
-                }
+            // Held by a member's group as its edge to `n`, the insulator: out first.
+            let (a, b, slot, counted) = (e.a, e.b, e.group_slot, e.group_counted);
+            if let Some(holder) = group_of_ends(graph, a, b) {
+                self.take_edge(graph, holder, eid, slot, counted, a, b);
             }
             self.began.push(eid);
         }

@@ -163,7 +163,7 @@ impl Groups {
             let mut met = false;
             let degree = graph.node(n).map_or(0, |node| node.edges.len());
             for k in 0..degree {
-                let Some(eid) = graph.node(n).and_then(|node| node.edges.get(k).copied()) else {
+                let Some(eid) = graph.nth_edge(n, k) else {
                     break;
                 };
                 let Some(e) = graph.edge(eid) else { continue };
@@ -237,8 +237,7 @@ impl Groups {
             for &n in &part {
                 let degree = graph.node(n).map_or(0, |node| node.edges.len());
                 for k in 0..degree {
-                    let Some(eid) = graph.node(n).and_then(|node| node.edges.get(k).copied())
-                    else {
+                    let Some(eid) = graph.nth_edge(n, k) else {
                         break;
                     };
                     let Some(e) = graph.edge(eid) else { continue };

@@ -62,8 +62,7 @@ impl Groups {
                     group.awake += 1;
                 }
                 for k in 0..node.edges.len() {
-                    let Some(eid) = graph.node(n).and_then(|node| node.edges.get(k).copied())
-                    else {
+                    let Some(eid) = graph.nth_edge(n, k) else {
                         break;
                     };
                     let Some(e) = graph.edge(eid) else { continue };
