@@ -57,8 +57,7 @@ impl HeldBoxes {
         refreshed: impl IntoIterator<Item = RigidBodyHandle>,
     ) {
         for h in refreshed {
-            self.take_out(h);
-            self.put(bodies, colliders, h);
+            self.reread(bodies, colliders, h);
         }
     }
 
@@ -77,11 +76,8 @@ impl HeldBoxes {
                 .of_body
                 .get(&super::key(h))
                 .map_or(&[][..], Vec::as_slice);
-            let now = bodies.get(h).map_or(&[][..], |rb| rb.colliders());
-            let same = now
-                .iter()
-                .filter(|&&c| boxed(colliders, c).is_some())
-                .map(|c| c.into_raw_parts().0)
+            let same = boxes_of(bodies, colliders, h)
+                .map(|(c, _)| c.into_raw_parts().0)
                 .eq(kept.iter().copied())
                 && kept.iter().all(|&l| {
                     self.leaves
@@ -91,10 +87,28 @@ impl HeldBoxes {
                         .is_some_and(|(c, _)| colliders.get(c).is_some())
                 });
             if !same {
-                self.take_out(h);
-                self.put(bodies, colliders, h);
+                self.reread(bodies, colliders, h);
             }
         }
+    }
+
+    /// Reads a held body's boxes again. O(colliders · log boxes).
+    fn reread(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet, h: RigidBodyHandle) {
+        self.take_out(h);
+        self.put(bodies, colliders, h);
+    }
+
+    /// The boxes a tree built anew from `held` would hold, as [`Self::entries`] gives
+    /// them, body by body (not in leaf order), without building it. O(held ·
+    /// colliders).
+    pub(super) fn expected<'a, T: HeldHandle>(
+        held: &'a BTreeMap<(u32, u32), T>,
+        bodies: &'a RigidBodySet,
+        colliders: &'a ColliderSet,
+    ) -> impl Iterator<Item = Entry> + 'a {
+        held.values().map(HeldHandle::handle).flat_map(move |h| {
+            boxes_of(bodies, colliders, h).map(move |(c, _)| (c.into_raw_parts().0 as usize, c, h))
+        })
     }
 
     /// The held bodies with a collider whose box meets `aabb`, once per collider met,
@@ -117,7 +131,7 @@ impl HeldBoxes {
             .filter_map(|(i, e)| e.map(|(c, h)| (i, c, h)))
     }
 
-    /// Puts in the boxes of a held body's colliders (see [`boxed`]). O(colliders ·
+    /// Puts in the boxes of a held body's colliders (see [`boxes_of`]). O(colliders ·
     /// log boxes).
     pub(super) fn put(
         &mut self,
@@ -125,14 +139,8 @@ impl HeldBoxes {
         colliders: &ColliderSet,
         h: RigidBodyHandle,
     ) {
-        let Some(rb) = bodies.get(h) else {
-            return;
-        };
         let mut mine = Vec::new();
-        for &c in rb.colliders() {
-            let Some(aabb) = boxed(colliders, c) else {
-                continue;
-            };
+        for (c, aabb) in boxes_of(bodies, colliders, h) {
             let leaf = c.into_raw_parts().0;
             let slot = leaf as usize;
             if self.leaves.len() <= slot {
@@ -188,12 +196,19 @@ impl HeldBoxes {
     }
 }
 
-/// A collider's box, if it is one the tree holds: not a sensor (a reach passes
-/// through it), and finite. O(1).
-fn boxed(colliders: &ColliderSet, c: ColliderHandle) -> Option<Aabb> {
-    let co = colliders.get(c)?;
-    let aabb = co.compute_aabb();
-    (!co.is_sensor() && aabb.mins.is_finite() && aabb.maxs.is_finite()).then_some(aabb)
+/// The colliders of body `h` the tree holds, with their boxes: not sensors (a reach
+/// passes through them), and finite. O(its colliders).
+fn boxes_of<'a>(
+    bodies: &'a RigidBodySet,
+    colliders: &'a ColliderSet,
+    h: RigidBodyHandle,
+) -> impl Iterator<Item = (ColliderHandle, Aabb)> + 'a {
+    let mine = bodies.get(h).map_or(&[][..], |rb| rb.colliders());
+    mine.iter().filter_map(move |&c| {
+        let co = colliders.get(c)?;
+        let aabb = co.compute_aabb();
+        (!co.is_sensor() && aabb.mins.is_finite() && aabb.maxs.is_finite()).then_some((c, aabb))
+    })
 }
 
 /// The boxes, not the tree's shape: a tree built anew from the same boxes (a
@@ -262,6 +277,9 @@ mod tests {
         // The fourth body is fixed but not held.
         assert_eq!(boxes.meeting(&around(6.0)).count(), 0);
         assert!(boxes.consistent(&held));
+        let mut expected: Vec<_> = HeldBoxes::expected(&held, &w.bodies, &w.colliders).collect();
+        expected.sort_by_key(|e| e.0);
+        assert!(expected.into_iter().eq(boxes.entries()));
     }
 
     #[test]

@@ -133,11 +133,13 @@ impl SpeedUpState {
     /// box of a released body, none of a collider moved to another body). A box may
     /// be missing or stale meanwhile where the user changed a held body's colliders
     /// in place: read again when the collider or body count changes or the body is
-    /// refreshed, as the graph reads such changes. O(held · colliders · log).
+    /// refreshed, as the graph reads such changes. O(held · colliders · log held).
     pub(crate) fn check_held_boxes(&self, view: &WorldView) -> Result<(), String> {
-        let anew = super::held_boxes::HeldBoxes::of(&self.held, view.bodies, view.colliders);
         let raw = |(l, c, h): super::held_boxes::Entry| (l, c.into_raw_parts(), key(h));
-        let anew: std::collections::BTreeSet<_> = anew.entries().map(raw).collect();
+        let anew: std::collections::BTreeSet<_> =
+            super::held_boxes::HeldBoxes::expected(&self.held, view.bodies, view.colliders)
+                .map(raw)
+                .collect();
         let live = |&(_, c, h): &super::held_boxes::Entry| {
             view.bodies.contains(h)
                 && view
