@@ -220,6 +220,8 @@ impl Unresponsive {
                 }
             }
         }
+        // Scratch only: left empty between checks, as a restored layer has it.
+        self.per.clear();
         // One entry per held body, its largest measure, in handle order (ties to the
         // pusher with the smaller handle).
         pressed.sort_by(|a, b| {

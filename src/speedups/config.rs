@@ -147,7 +147,8 @@ impl SpeedUps {
     /// Preset: piles held still once at rest, with Rapier's warm start kept: the
     /// contact graph with `cache`, `insulate_sleepy` and `hold` (the paper's
     /// `C----SF`). A sleepy body is held (a fixed body to Rapier, out of its active
-    /// set) and keeps its contacts as a sleeping one does; it is released before a
+    /// set) and keeps its contacts as a sleeping one does, once no body of a contact
+    /// group it touches still moves fast; it is released before a
     /// moving body reaches it, with as much of its held group as the disturbance can
     /// move, and not held again while that body still moves; and when its support
     /// goes (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to

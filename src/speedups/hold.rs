@@ -5,6 +5,7 @@ use rapier3d::dynamics::RigidBodyType;
 use rapier3d::math::{Pose, Vector};
 use rapier3d::prelude::RigidBodyHandle;
 
+use super::busy::beside_busy;
 use super::park::Park;
 use super::sleep::{never_activation, remember_activation};
 use super::support::{supporters_now, Supporter};
@@ -369,7 +370,8 @@ impl SpeedUpState {
     ) -> Vec<RigidBodyHandle> {
         // Fixate: every sleepy awake simulated body, with what holds it up now.
         let mut candidates: Vec<Candidate> = Vec::new();
-        // Sleepy bodies whose wave is not at rest yet wait, as deferred ones do.
+        // Sleepy bodies whose wave is not at rest yet, or beside a busy group, wait, as
+        // deferred ones do.
         let mut waiting: Vec<RigidBodyHandle> = Vec::new();
         for &n in refreshed {
             let Some(node) = graph.node(n) else { continue };
@@ -387,6 +389,17 @@ impl SpeedUpState {
                 }
                 _ => {}
             }
+        }
+        // The busy groups only when a body could be held.
+        if !candidates.is_empty() {
+            let busy = self.busy_groups(graph, view, refreshed);
+            candidates.retain(|&(_, _, n, h)| {
+                let beside = beside_busy(graph, n, &busy);
+                if beside {
+                    waiting.push(h);
+                }
+                !beside
+            });
         }
         candidates.sort_unstable_by_key(|c| (c.0, c.1));
         candidates.dedup_by_key(|c| c.1);

@@ -24,12 +24,14 @@
 //!   exactly, before a moving body reaches it, with as much of its held group as the
 //!   disturbance can move, when its support goes, or when the user changes its type
 //!   (`release.rs`); what a moving body released is not held again while that body
-//!   still moves (`wave.rs`). O(refreshed bodies' contacts + fast bodies × log held
+//!   still moves (`wave.rs`), nor is a sleepy body beside a group with a body still
+//!   moving fast (`busy.rs`). O(refreshed bodies' contacts + fast bodies × log held
 //!   + held bodies the step's changes reach).
 //!
 //! Per step, O(awake bodies) for the energy tracking, plus O(changes) Rapier writes;
 //! a full pass over the bodies only when the configuration or the body count changes.
 
+mod busy; // sleepy bodies beside a group still moving wait to be held
 mod config;
 mod held_boxes; // the held bodies' colliders in a tree of their own, for the reach
 mod hold; // fixation: held records, hold decisions, holds and releases applied

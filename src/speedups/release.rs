@@ -103,9 +103,7 @@ impl SpeedUpState {
             };
             let simulated = node.kind().is_simulated();
             let moving = if simulated {
-                node.is_awake()
-                    && !self.is_sleepy(h)
-                    && rb.linvel().length() > self.config.release_speed
+                self.moves_fast(node, h, rb)
             } else {
                 node.kind() == NodeKind::Kinematic && crate::world::moves(rb)
             };
