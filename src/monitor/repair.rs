@@ -144,8 +144,9 @@ impl RepairConfig {
 enum Action {
     /// Wake (release) the body and its group.
     Wake(RigidBodyHandle),
-    /// Release a held body and the held part of its group (an unresponsive body).
-    Release(RigidBodyHandle),
+    /// Release a held body (an unresponsive one) and as much of its held group as the
+    /// body pressing into it can set moving.
+    Release(RigidBodyHandle, RigidBodyHandle),
     /// Scale the velocities of the body's group by this factor.
     Damp(RigidBodyHandle, Real),
     /// Stand fewer iterations and deepest contact only down.
@@ -311,10 +312,11 @@ impl LayerMonitor {
         // The pusher's group is woken too: its rest count starts again, so that a
         // pusher stopped by the held body is not fixated in the same pre-step.
         for &(h, by, value) in self.monitor.pressed_held() {
-            if self.planned.contains(&Action::Release(h)) {
+            let planned = |a: &Action| matches!(a, Action::Release(x, _) if *x == h);
+            if self.planned.iter().any(planned) {
                 continue;
             }
-            self.planned.push(Action::Release(h));
+            self.planned.push(Action::Release(h, by));
             if !self.planned.contains(&Action::Wake(by)) {
                 self.planned.push(Action::Wake(by));
             }
@@ -411,12 +413,12 @@ impl LayerMonitor {
                         woken.push(n);
                     }
                 }
-                Action::Release(h) => {
+                Action::Release(h, by) => {
                     self.totals.woken += 1;
                     let Some(s) = speedups.as_deref_mut() else {
                         continue;
                     };
-                    for m in s.repair_release_group(h, mods) {
+                    for m in s.repair_release_group(h, by, world, mods) {
                         self.fresh
                             .insert(m.into_raw_parts(), step + self.repair.cap_steps as u64);
                         woken.extend(graph.node_of_body(m));

@@ -161,7 +161,9 @@ impl SpeedUpState {
         let mut out: Vec<RigidBodyHandle> = Vec::new();
         for (h, budget) in seeds {
             if self.config.release_group {
-                out.extend(self.held_group(h, budget, |b| held_mass(view, b)));
+                out.extend(
+                    self.held_group(h, budget, |b| held_mass(view.bodies, view.colliders, b)),
+                );
             } else {
                 out.push(h);
             }
@@ -264,19 +266,29 @@ impl SpeedUpState {
         }
     }
 
-    /// Releases a held body for the monitor's repair of an unresponsive body (one an
-    /// awake body pushes into), with the held bodies it touched when it was held or
-    /// that touched it, transitively when `release_group` is on (the whole held part
-    /// of its group, as the user's release), each with its rest count started again
-    /// (as [`Self::repair_wake`]). The bodies released, in handle order. O(released
-    /// bodies × their links · log).
+    /// Releases a held body for the monitor's repair of an unresponsive body (one the
+    /// awake body `by` pushes into), spread through the held bodies it touched when it
+    /// was held or that touched it when `release_group` is on, as far as the pusher's
+    /// momentum could set them moving (the reach's bound, at `release_speed` at least:
+    /// a slow push moves what it pushes, not a whole pile), each with its rest count
+    /// started again (as [`Self::repair_wake`]). The bodies released, in handle order.
+    /// O(released bodies × their links · log).
     pub(crate) fn repair_release_group(
         &mut self,
         h: RigidBodyHandle,
+        by: RigidBodyHandle,
+        world: &crate::logic::WorldMut,
         mods: &mut crate::logic::hooks::ContactMods,
     ) -> Vec<RigidBodyHandle> {
         let mut out = if self.config.release_group {
-            self.held_group(h, f32::INFINITY, |_| 0.0)
+            let fast = self.config.release_speed;
+            let budget = match world.bodies.get(by) {
+                Some(rb) if rb.is_dynamic() && fast > 0.0 => {
+                    REACH_MASS_MARGIN * rb.mass() * rb.linvel().length().max(fast) / fast
+                }
+                _ => f32::INFINITY,
+            };
+            self.held_group(h, budget, |b| held_mass(world.bodies, world.colliders, b))
         } else {
             vec![h]
         };
@@ -317,11 +329,15 @@ fn approaches(view: &WorldView, rb: &rapier3d::prelude::RigidBody, held: RigidBo
 
 /// A held body's mass, from its colliders (Rapier gives a fixed body none). O(its
 /// colliders).
-fn held_mass(view: &WorldView, h: RigidBodyHandle) -> f32 {
-    view.bodies.get(h).map_or(0.0, |rb| {
+fn held_mass(
+    bodies: &rapier3d::prelude::RigidBodySet,
+    colliders: &rapier3d::prelude::ColliderSet,
+    h: RigidBodyHandle,
+) -> f32 {
+    bodies.get(h).map_or(0.0, |rb| {
         rb.colliders()
             .iter()
-            .filter_map(|&c| view.colliders.get(c))
+            .filter_map(|&c| colliders.get(c))
             .map(|co| co.mass())
             .sum()
     })
