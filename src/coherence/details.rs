@@ -243,9 +243,10 @@ pub(crate) fn resting_supports(
 /// The deepest penetration of each touching edge of the nodes in `nodes`, read from
 /// Rapier's narrow phase in one pass over each node's collider pairs: what the
 /// per-edge caches hold as `ContactCache::max_penetration` under proximity tracking
-/// (the same accumulation), for touching tracking, which copies none. An edge between
-/// two of the nodes is read once, from its smaller node. Appended to `out` as
-/// `(edge, depth)` in edge order, each edge once. O(the nodes' contact pairs).
+/// (the same accumulation, the depth alone), for touching tracking, which copies
+/// none. An edge between two of the nodes is read once, from its smaller node.
+/// Appended to `out` as `(edge, depth)` in edge order, each edge once. O(the nodes'
+/// contact pairs).
 pub(crate) fn touching_depths(
     graph: &ContactGraph,
     view: &WorldView,
@@ -258,7 +259,9 @@ pub(crate) fn touching_depths(
     let touching_physical =
         |e: &crate::graph::Edge| e.is_touching() && e.kind() == EdgeKind::Physical;
     let mut mine: Vec<ColliderHandle> = Vec::new();
-    let mut per: Vec<(NodeId, ContactCache)> = Vec::new();
+    // Per neighbour: (the deepest point's distance, the penetration), as
+    // `ContactCache::min_distance` and `max_penetration` accumulate them.
+    let mut per: Vec<(NodeId, Real, Real)> = Vec::new();
     for &n in &sorted {
         let Some(node) = graph.node(n) else { continue };
         // Only nodes with a touching edge have anything to read.
@@ -266,20 +269,55 @@ pub(crate) fn touching_depths(
             .edges()
             .iter()
             .any(|&e| graph.edge(e).is_some_and(touching_physical));
-        // A pair with another listed node is read from the smaller one.
-        let listed_before = |m: NodeId| m < n && sorted.binary_search(&m).is_ok();
-        if !any || !per_neighbour(graph, view, n, listed_before, false, &mut mine, &mut per) {
+        if !any || !super::colliders_of(graph, view, n, &mut mine) {
             continue;
         }
-        for (m, cache) in &per {
-            let Some(eid) = graph.edge_between(n, *m) else {
+        per.clear();
+        for &c in &mine {
+            for pair in view.narrow_phase.contact_pairs_with(c) {
+                let other = super::pairs::other_collider(pair, c);
+                let Some(m) = nodes::collider_owner(graph, view, other) else {
+                    continue;
+                };
+                // A pair with another listed node is read from the smaller one.
+                if m == n || (m < n && sorted.binary_search(&m).is_ok()) {
+                    continue;
+                }
+                let at = match per.iter().position(|&(x, _, _)| x == m) {
+                    Some(i) => i,
+                    None => {
+                        per.push((m, Real::INFINITY, 0.0));
+                        per.len() - 1
+                    }
+                };
+                let (_, deepest, depth) = &mut per[at];
+                deepen(deepest, depth, pair);
+            }
+        }
+        for &(m, _, depth) in &per {
+            let Some(eid) = graph.edge_between(n, m) else {
                 continue;
             };
             if graph.edge(eid).is_some_and(touching_physical) {
-                out.push((eid, cache.max_penetration));
+                out.push((eid, depth));
             }
         }
     }
     out.sort_unstable_by_key(|(e, _)| *e);
     out.dedup_by_key(|(e, _)| *e);
+}
+
+/// One collider pair's share of a neighbour's deepest distance and penetration,
+/// as `pairs::accumulate_pair` adds it to a cache's. O(the pair's points).
+fn deepen(deepest: &mut Real, depth: &mut Real, pair: &rapier3d::geometry::ContactPair) {
+    for m in pair.manifolds() {
+        for p in &m.points {
+            if p.dist.is_finite() && p.dist < *deepest {
+                *deepest = p.dist;
+            }
+        }
+    }
+    if deepest.is_finite() {
+        *depth = depth.max(-*deepest).max(0.0);
+    }
 }
