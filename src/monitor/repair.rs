@@ -16,10 +16,11 @@
 //!     back to sleep before it has moved;
 //!   - *a held body an awake body presses into* over
 //!     [`MonitorConfig::unresponsive_push`] (an unresponsive body, in the step it is
-//!     found: a push cannot be seen coming) is released with the held part of its
-//!     group (the held bodies it touched when it was held, or that touched it,
-//!     transitively), and the pusher's rest count starts again, so that the next
-//!     step moves the pile as a sleeping Rapier pile woken by the push would move;
+//!     found: a push cannot be seen coming) is released with the held bodies it
+//!     touched when it was held, or that touched it, transitively, nearest first, as
+//!     far as the pusher's momentum could set them moving (the reach's bound), and
+//!     the pusher's rest count starts again, so that the next step moves what the
+//!     push would move in a sleeping Rapier pile;
 //!   - *a released or woken body* gets a capped position correction for
 //!     [`RepairConfig::cap_steps`] steps (Rapier's `normalized_max_corrective_velocity`
 //!     lowered to [`RepairConfig::corrective_cap`] while any such body is fresh), so
