@@ -148,22 +148,25 @@ impl<'a> NodeColliders<'a> {
     }
 }
 
-/// Accumulates `n`'s collider pairs into one contact per neighbour node, as the
-/// per-edge caches do ([`super::pairs::accumulate_pair`]), each oriented as if `n`
-/// were the edge's *B* (the normal points from the neighbour into `n`, the push is
-/// what the neighbour does to `n`). Neighbours for which `skip` says so, and `n`
-/// itself, are left out; with `points_only`, so are the pairs without a contact point
-/// (which add nothing to a cache but its pair count and proximity), before their
-/// owner is looked up. `per` is cleared first; `mine` is scratch. False if `n` has no
-/// colliders in the world. O(the contact pairs of `n`'s colliders).
-fn per_neighbour(
+/// Accumulates `n`'s collider pairs into one value per neighbour node: each starts
+/// as `new()` and `add` folds in a pair with its `flip` (`collider1` belongs to the
+/// B end, `n`; see [`super::pairs::accumulate_pair`]). Neighbours for which `skip`
+/// says so, and `n` itself, are left out; with `points_only`, so are the pairs
+/// without a contact point (which add nothing to a cache but its pair count and
+/// proximity), before their owner is looked up. `per` is cleared first; `mine` is
+/// scratch. False if `n` has no colliders in the world. O(the contact pairs of `n`'s
+/// colliders).
+#[allow(clippy::too_many_arguments)] // the walk's inputs, its scratch and its fold
+fn per_neighbour<T>(
     graph: &ContactGraph,
     view: &WorldView,
     n: NodeId,
     skip: impl Fn(NodeId) -> bool,
     points_only: bool,
     mine: &mut Vec<ColliderHandle>,
-    per: &mut Vec<(NodeId, ContactCache)>,
+    per: &mut Vec<(NodeId, T)>,
+    new: impl Fn() -> T,
+    mut add: impl FnMut(&mut T, &rapier3d::geometry::ContactPair, bool),
 ) -> bool {
     per.clear();
     if !super::colliders_of(graph, view, n, mine) {
@@ -187,17 +190,22 @@ fn per_neighbour(
             let at = match per.iter().position(|(x, _)| *x == m) {
                 Some(i) => i,
                 None => {
-                    let mut cache = ContactCache::default();
-                    cache.begin_update(true);
-                    per.push((m, cache));
+                    per.push((m, new()));
                     per.len() - 1
                 }
             };
-            // `flip`: `collider1` belongs to the B end, `n`.
-            super::pairs::accumulate_pair(&mut per[at].1, pair, pair.collider1 == c, true);
+            add(&mut per[at].1, pair, pair.collider1 == c);
         }
     }
     true
+}
+
+/// A cache ready to accumulate collider pairs with their details, as an edge's at the
+/// start of its update. O(1).
+fn fresh_cache() -> ContactCache {
+    let mut cache = ContactCache::default();
+    cache.begin_update(true);
+    cache
 }
 
 /// The nodes whose contact with `n` holds it up against gravity now, read from
@@ -231,7 +239,22 @@ pub(crate) fn resting_supports(
     // A pair without a contact point holds nothing up (`ContactCache::holds_up`: it
     // neither touches nor lies within the gap): the pairs of a held body with other
     // held ones, most of a pile's, are passed over before any lookup.
-    per_neighbour(graph, view, n, disallowed, true, &mut Vec::new(), &mut per);
+    // Each oriented as if `n` were the edge's *B* (the normal points from the
+    // neighbour into `n`, the push is what the neighbour does to `n`).
+    let accumulate = |cache: &mut ContactCache, pair: &_, flip| {
+        super::pairs::accumulate_pair(cache, pair, flip, true)
+    };
+    per_neighbour(
+        graph,
+        view,
+        n,
+        disallowed,
+        true,
+        &mut Vec::new(),
+        &mut per,
+        fresh_cache,
+        accumulate,
+    );
     out.extend(
         per.iter()
             .filter(|(_, cache)| cache.holds_up(true, up, min_cos, gap))
@@ -261,7 +284,7 @@ pub(crate) fn touching_depths(
     let mut mine: Vec<ColliderHandle> = Vec::new();
     // Per neighbour: (the deepest point's distance, the penetration), as
     // `ContactCache::min_distance` and `max_penetration` accumulate them.
-    let mut per: Vec<(NodeId, Real, Real)> = Vec::new();
+    let mut per: Vec<(NodeId, (Real, Real))> = Vec::new();
     for &n in &sorted {
         let Some(node) = graph.node(n) else { continue };
         // Only nodes with a touching edge have anything to read.
@@ -269,32 +292,26 @@ pub(crate) fn touching_depths(
             .edges()
             .iter()
             .any(|&e| graph.edge(e).is_some_and(touching_physical));
-        if !any || !super::colliders_of(graph, view, n, &mut mine) {
+        // A pair with another listed node is read from the smaller one.
+        let listed_before = |m: NodeId| m < n && sorted.binary_search(&m).is_ok();
+        let start = || (Real::INFINITY, 0.0);
+        let add = |(deepest, depth): &mut (Real, Real), pair: &_, _| deepen(deepest, depth, pair);
+        if !any
+            || !per_neighbour(
+                graph,
+                view,
+                n,
+                listed_before,
+                false,
+                &mut mine,
+                &mut per,
+                start,
+                add,
+            )
+        {
             continue;
         }
-        per.clear();
-        for &c in &mine {
-            for pair in view.narrow_phase.contact_pairs_with(c) {
-                let other = super::pairs::other_collider(pair, c);
-                let Some(m) = nodes::collider_owner(graph, view, other) else {
-                    continue;
-                };
-                // A pair with another listed node is read from the smaller one.
-                if m == n || (m < n && sorted.binary_search(&m).is_ok()) {
-                    continue;
-                }
-                let at = match per.iter().position(|&(x, _, _)| x == m) {
-                    Some(i) => i,
-                    None => {
-                        per.push((m, Real::INFINITY, 0.0));
-                        per.len() - 1
-                    }
-                };
-                let (_, deepest, depth) = &mut per[at];
-                deepen(deepest, depth, pair);
-            }
-        }
-        for &(m, _, depth) in &per {
+        for &(m, (_, depth)) in &per {
             let Some(eid) = graph.edge_between(n, m) else {
                 continue;
             };
