@@ -115,8 +115,8 @@ impl SpeedUpState {
             if !speed.is_finite() {
                 continue;
             }
-            let budget = if simulated && self.config.release_speed > 0.0 {
-                REACH_MASS_MARGIN * rb.mass() * speed / self.config.release_speed
+            let budget = if simulated {
+                self.momentum_budget(rb.mass(), speed)
             } else {
                 f32::INFINITY
             };
@@ -169,6 +169,18 @@ impl SpeedUpState {
             }
         }
         self.queue_releases(out);
+    }
+
+    /// The held mass, in kg, that a body of `mass` moving at `speed` may set moving:
+    /// [`REACH_MASS_MARGIN`] × its momentum / `release_speed`; unbounded without a
+    /// `release_speed`. O(1).
+    fn momentum_budget(&self, mass: f32, speed: f32) -> f32 {
+        let fast = self.config.release_speed;
+        if fast > 0.0 {
+            REACH_MASS_MARGIN * mass * speed / fast
+        } else {
+            f32::INFINITY
+        }
     }
 
     /// `h` and the held bodies linked to it (those it touched when it was held, and
@@ -281,10 +293,10 @@ impl SpeedUpState {
         mods: &mut crate::logic::hooks::ContactMods,
     ) -> Vec<RigidBodyHandle> {
         let mut out = if self.config.release_group {
-            let fast = self.config.release_speed;
+            let slowest = self.config.release_speed;
             let budget = match world.bodies.get(by) {
-                Some(rb) if rb.is_dynamic() && fast > 0.0 => {
-                    REACH_MASS_MARGIN * rb.mass() * rb.linvel().length().max(fast) / fast
+                Some(rb) if rb.is_dynamic() => {
+                    self.momentum_budget(rb.mass(), rb.linvel().length().max(slowest))
                 }
                 _ => f32::INFINITY,
             };
