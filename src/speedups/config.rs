@@ -153,7 +153,10 @@ impl SpeedUps {
     /// move, and not held again while that body still moves; and when its support
     /// goes (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to
     /// rest at once is held over a few steps, so that no step pays Rapier's answer to
-    /// a whole pile's change of type; releases are never put off. The gain is on
+    /// a whole pile's change of type; likewise a release that spreads through a
+    /// large held pile is given back over a few steps, nearest first, while what a
+    /// moving body reaches, a lost support and the user's own bodies are released at
+    /// once. The gain is on
     /// piles at rest; a pile that keeps being hit runs at about stock Rapier's cost
     /// (`docs/results.md`). Not done yet: obeying an impulse or velocity the user
     /// writes to a held body (Rapier drops writes to a fixed body).

@@ -283,7 +283,11 @@ impl SpeedUpState {
                 mods.set_sleepy(h, false);
             }
         }
-        self.waves.join(&released);
+        // Those put off by the release budget join the wave now: their release later
+        // is the same disturbance's.
+        let mut joining = released;
+        joining.extend(self.later.iter().copied());
+        self.waves.join(&joining);
     }
 
     /// Applies the queued fixations to the bodies that can still be held: each one's

@@ -22,6 +22,7 @@ impl SpeedUpState {
             eligibility: Vec::new(),
             to_fix: Vec::new(),
             to_release: Vec::new(),
+            later: Vec::new(),
             to_park: Vec::new(),
             unparked: Default::default(),
             parking_now: Vec::new(),
@@ -119,6 +120,7 @@ impl SpeedUpState {
         self.eligibility.clear();
         self.to_fix.clear();
         self.to_release.clear();
+        self.later.clear();
         self.to_park.clear();
         self.unparked.clear();
         self.parking_now.clear();

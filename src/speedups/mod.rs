@@ -91,6 +91,11 @@ pub struct SpeedUpState {
     /// [`Self::apply_decided`]) or in the pre-step.
     to_fix: Vec<hold::ToFix>,
     to_release: Vec<RigidBodyHandle>,
+    /// Held bodies a release's spread reached beyond this step's release budget,
+    /// nearest first: released at the next analyses (see
+    /// [`release::release_budget`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    later: Vec<RigidBodyHandle>,
     /// Held bodies to take out of Rapier's active set in the pre-step (see
     /// [`Self::park`]).
     #[cfg_attr(feature = "serde", serde(default))]

@@ -13,7 +13,9 @@
 //!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
 //!   `release_speed`, in kg of held bodies); a kinematic body's or the user's
 //!   release has no bound: the held part of the contact group wakes whole
-//!   ([`super::SpeedUps::release_group`]).
+//!   ([`super::SpeedUps::release_group`]). What a spread reaches is given back
+//!   nearest first, at most [`release_budget`] bodies a step; the rest at the next
+//!   analyses.
 //! - **Support**: a held body whose remembered support is gone is released, with
 //!   what rests on it, transitively.
 //! - **Owner**: a held body the user turned into another type is the user's again.
@@ -39,6 +41,25 @@ pub(crate) const REACH_STEPS: f32 = 2.0;
 /// at `release_speed`: a margin, since a push spreads sideways through a pile and
 /// its contacts carry it on.
 pub(crate) const REACH_MASS_MARGIN: f32 = 4.0;
+
+/// The most held bodies a step releases through a release's spread (rule 2) beyond
+/// the bodies released directly: [`RELEASE_BUDGET_SHARE`]'s share of the world's
+/// dynamic bodies (held ones included), at least [`RELEASE_BUDGET_MIN`]. Rapier
+/// answers a released body by pairing its colliders anew and computing their contacts
+/// from nothing, at about the cost of stepping the body awake, so a wave released
+/// whole cost its step about twice an awake step of the pile; spread nearest first
+/// over a few steps, each step's share adds about a quarter. O(1).
+pub(crate) fn release_budget(dynamic: usize) -> usize {
+    RELEASE_BUDGET_MIN.max(dynamic / RELEASE_BUDGET_SHARE)
+}
+
+/// The least number of spread releases a step applies when that many are pending
+/// (see [`release_budget`]).
+pub(crate) const RELEASE_BUDGET_MIN: usize = 32;
+
+/// The share of the world's dynamic bodies one step may release through a spread:
+/// one in this many (see [`release_budget`]).
+pub(crate) const RELEASE_BUDGET_SHARE: usize = 4;
 
 /// A release decided this step, with how far it may spread: the mass of held bodies,
 /// in kg, it may set moving (infinite: the whole held group).
@@ -68,7 +89,10 @@ impl SpeedUpState {
         let mut seeds: Vec<Seed> = Vec::new();
         self.taken_back(graph, view, refreshed, &mut seeds);
         self.reached(graph, view, refreshed, &mut seeds);
-        self.spread_releases(view, seeds);
+        let dynamic = graph.count_of_kind(NodeKind::Dynamic)
+            + graph.count_of_kind(NodeKind::Link)
+            + self.held.len();
+        self.spread_releases(view, seeds, release_budget(dynamic));
     }
 
     /// Queues the releases of `bodies` that are held and not queued yet, in the
@@ -153,22 +177,26 @@ impl SpeedUpState {
         }
     }
 
-    /// Queues the seeds' releases, each spread through the held bodies' links both
-    /// ways, nearest first, while its mass budget lasts (see the module doc); only
-    /// the seeds with `release_group` off. O(released bodies × their links · log).
-    fn spread_releases(&mut self, view: &WorldView, mut seeds: Vec<Seed>) {
+    /// Queues the seeds' releases at once, and the held bodies their spread reaches
+    /// through the held bodies' links both ways, nearest first, while each seed's
+    /// mass budget lasts (see the module doc), after those put off before, up to
+    /// `budget` this step; the rest wait in [`SpeedUpState::later`]. O((released +
+    /// put off) × their links · log).
+    fn spread_releases(&mut self, view: &WorldView, mut seeds: Vec<Seed>, budget: usize) {
         seeds.sort_by_key(|&(h, _)| key(h));
-        let mut out: Vec<RigidBodyHandle> = Vec::new();
-        for (h, budget) in seeds {
-            if self.config.release_group {
-                out.extend(
-                    self.held_group(h, budget, |b| held_mass(view.bodies, view.colliders, b)),
-                );
-            } else {
-                out.push(h);
+        let now: Vec<RigidBodyHandle> = seeds.iter().map(|&(h, _)| h).collect();
+        let mut spread = std::mem::take(&mut self.later);
+        if self.config.release_group {
+            for (h, budget) in seeds {
+                let group =
+                    self.held_group(h, budget, |b| held_mass(view.bodies, view.colliders, b));
+                spread.extend(group.into_iter().skip(1));
             }
         }
-        self.queue_releases(out);
+        let mut seen: BTreeSet<(u32, u32)> = now.iter().map(|&h| key(h)).collect();
+        spread.retain(|&h| self.is_fixated(h) && seen.insert(key(h)));
+        self.later = spread.split_off(budget.min(spread.len()));
+        self.queue_releases(now.into_iter().chain(spread));
     }
 
     /// The held mass, in kg, that a body of `mass` moving at `speed` may set moving:

@@ -94,13 +94,15 @@ impl SpeedUpState {
             nodes_removed,
             ..
         } = *changes;
-        // An idle step (nothing refreshed, touched or removed, no awake group): no
-        // eligibility and no fixation or release to decide; what the support memory
-        // depends on (gravity, static supporters' poses) is looked at as always.
+        // An idle step (nothing refreshed, touched or removed, no release put off, no
+        // awake group): no eligibility and no fixation or release to decide; what the
+        // support memory depends on (gravity, static supporters' poses) is looked at
+        // as always.
         if refreshed.is_empty()
             && touched.is_empty()
             && removed.is_empty()
             && !nodes_removed
+            && self.later.is_empty()
             && groups.iter_awake().next().is_none()
         {
             if self.config.hold {

@@ -6,7 +6,7 @@
 //!
 //! ```text
 //! cargo lab disturb [--scenes all|LIST] [--boxes N] [--seeds K] [--seed S]
-//!                   [--at STEP] [--after STEPS] [--quick] [--out DIR]
+//!                   [--at STEP] [--after STEPS] [--quick] [--configs LIST] [--out DIR]
 //! ```
 //! `--boxes`, `--at` and `--after` apply to every scene run; without them each scene
 //! has its own ([`SCENES`]: the box piles 250 boxes, disturbed at step 300; the DIKU
@@ -15,7 +15,9 @@
 //! Per scene and seed: the reference (Rapier's defaults, sleep off), its two
 //! refinements (8 solver iterations; half the time step), then stock Rapier, the
 //! layer with `SpeedUps::default()`, `reliable_sleep()`, `reliable_sleep()` with the
-//! monitor repairing, and `papers_fastest()`. Prints per scene a table of each
+//! monitor repairing, and `papers_fastest()` (`--configs` picks some of these by their
+//! short names; the reference and its refinements always run, since they make the
+//! tolerance). Prints per scene a table of each
 //! observable's mean over seeds and, per configuration, its paired difference from
 //! the reference with the 95 % interval's half width and the verdict (`=` equivalent,
 //! `+`/`-` differs upwards/downwards, `?` undecided, `!` not finite). Writes
@@ -60,9 +62,43 @@ pub struct Args {
     /// given.
     #[arg(long)]
     pub quick: bool,
+    /// The configurations judged: `all` or a comma list of their short names (stock,
+    /// sleep, reliable, rel-nogroup, reliable+rep, fastest). The reference and its
+    /// refinements always run.
+    #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_configs)]
+    pub configs: Configs,
     /// Directory for runs.csv and results.csv.
     #[arg(long, value_name = "DIR", default_value = "target/disturb")]
     pub out: PathBuf,
+}
+
+/// The configurations judged, in report order.
+#[derive(Clone, Debug)]
+pub struct Configs(pub Vec<Config>);
+
+/// The configurations of a `--configs` value, by short name; unknown names and an
+/// empty list are errors.
+pub fn parse_configs(list: &str) -> Result<Configs, String> {
+    let known = configs();
+    if list == "all" {
+        return Ok(Configs(known));
+    }
+    let mut out: Vec<Config> = Vec::new();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let found = known.iter().find(|c| c.short == item).ok_or(format!(
+            "unknown configuration `{item}` (one of: {})",
+            known.iter().map(|c| c.short).collect::<Vec<_>>().join(", ")
+        ))?;
+        if !out.iter().any(|c| c.short == found.short) {
+            out.push(found.clone());
+        }
+    }
+    if out.is_empty() {
+        return Err("no configuration given".into());
+    }
+    // In the order of the full run, whatever the list's.
+    out.sort_by_key(|c| known.iter().position(|k| k.short == c.short));
+    Ok(Configs(out))
 }
 
 /// The scenes to run, in report order.
@@ -150,7 +186,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let mut all: Vec<Config> = vec![reference()];
     all.extend(refinements());
-    all.extend(configs());
+    all.extend(args.configs.0.iter().cloned());
     let bar = super::progress(args.scenes.0.len() * all.len() * k as usize);
     let mut runs_rows = Vec::new();
     let mut results_rows = Vec::new();
@@ -335,4 +371,19 @@ fn print_table(
         line.push_str(&format!("{cell:>W$}"));
     }
     println!("{line}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn configurations_are_picked_by_short_name_in_the_full_runs_order() {
+        assert_eq!(parse_configs("all").unwrap().0, configs());
+        let picked = parse_configs("fastest, stock,stock").unwrap().0;
+        let shorts: Vec<&str> = picked.iter().map(|c| c.short).collect();
+        assert_eq!(shorts, ["stock", "fastest"]);
+        assert!(parse_configs("nope").unwrap_err().contains("nope"));
+        assert!(parse_configs(" , ").is_err());
+    }
 }
