@@ -228,7 +228,10 @@ impl SpeedUpState {
 
     /// The releases queued and not given back yet: those the last analysis decided,
     /// in a hand-written loop (its next pre-step gives them back;
-    /// [`crate::ContactLayer::step`] does at once), and those asked for since. O(1).
+    /// [`crate::ContactLayer::step`] does at once), and those asked for since. The
+    /// bodies a release's spread put off past a step's release budget
+    /// (`docs/ARCHITECTURE.md`, "Releasing held bodies") are queued by the next
+    /// analyses, not listed here before. O(1).
     pub fn pending_releases(&self) -> &[RigidBodyHandle] {
         &self.to_release
     }
