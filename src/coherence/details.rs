@@ -334,7 +334,5 @@ fn deepen(deepest: &mut Real, depth: &mut Real, pair: &rapier3d::geometry::Conta
             }
         }
     }
-    if deepest.is_finite() {
-        *depth = depth.max(-*deepest).max(0.0);
-    }
+    *depth = super::pairs::penetration_with(*depth, *deepest);
 }

@@ -68,6 +68,17 @@ pub(crate) fn begin_edge_update(
     }
 }
 
+/// A penetration raised to what the deepest contact point's distance `deepest` says
+/// (left as it is while no point was found: `deepest` infinite). O(1).
+#[inline]
+pub(crate) fn penetration_with(penetration: Real, deepest: Real) -> Real {
+    if deepest.is_finite() {
+        penetration.max(-deepest).max(0.0)
+    } else {
+        penetration
+    }
+}
+
 /// Adds one Rapier collider pair to an edge's aggregates. `flip` is true when the
 /// pair's `collider1` belongs to the edge's *B* node (Rapier's normals point from
 /// collider 1 to collider 2; the edge's from *A* to *B*). Without `details`, only
@@ -106,9 +117,7 @@ pub(crate) fn accumulate_pair(
         }
     }
     cache.min_distance = deepest;
-    if deepest.is_finite() {
-        cache.max_penetration = cache.max_penetration.max(-deepest).max(0.0);
-    }
+    cache.max_penetration = penetration_with(cache.max_penetration, deepest);
     if pair.has_any_active_contact() {
         cache.touching = true;
     }
