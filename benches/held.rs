@@ -51,6 +51,10 @@
 //! applied and stock's step beside it: where a spike comes from (with `--hit`, the
 //! ball is thrown as above).
 //!
+//! `--first-step N` times instead the first step of `N` fresh worlds of each scene,
+//! stock's and the held world's in turn (`held/first.rs`): the pyramid's worst step
+//! is its first, one sample a run.
+//!
 //! ```text
 //! cargo bench --bench held                        # all scenes, 1,000 steps, 3 repeats
 //! cargo bench --bench held -- --scene boxes --repeats 5
@@ -65,6 +69,7 @@
 //! RCG_HELD_ALONE=held RCG_HELD_ALONE_FROM=100 cargo bench --bench held -- --scene mixed
 //!     --steps 200 --tail 100                       # the same world while it falls
 //! cargo bench --bench held -- --scene mixed --windows 200   # the run in windows
+//! cargo bench --bench held -- --scene pyramid --first-step 40   # first steps alone
 //! ```
 
 use clap::Parser;
@@ -79,6 +84,8 @@ use rcg_scenes as scenes;
 #[cfg(feature = "parallel")]
 use std::time::Instant as StepClock;
 
+#[path = "held/first.rs"]
+mod first;
 #[path = "held/hit.rs"]
 mod hit;
 #[path = "held/phases.rs"]
@@ -127,6 +134,11 @@ struct Args {
     /// the bodies displaced from the hit to the end in each world (see `held/hit.rs`).
     #[arg(long, value_name = "STEP")]
     hit: Option<usize>,
+    /// Instead of the table: the first step of `N` fresh worlds of each scene, stock's
+    /// and the held world's in turn, their ratios' min / quartiles / max (a world
+    /// built in contact: its first step is the run's worst, see `held/first.rs`).
+    #[arg(long, value_name = "N")]
+    first_step: Option<usize>,
     /// cargo passes `--bench` to benches without the default harness.
     #[arg(long, hide = true)]
     bench: bool,
@@ -495,6 +507,17 @@ fn main() {
     }
     if let Ok(which) = std::env::var("RCG_HELD_ALONE") {
         alone(&chosen[0], &which, &args);
+        return;
+    }
+    if let Some(n) = args.first_step.filter(|&n| n > 0) {
+        for scene in &chosen {
+            first::run(
+                scene,
+                n,
+                || build(scene).expect("scene"),
+                || held_layer(&args),
+            );
+        }
         return;
     }
     if let Some(top) = args.phases {

@@ -120,3 +120,19 @@ fn a_settled_scene_costs_no_pair_walk() {
     assert_eq!(stats.groups.rebuilt, 0);
     assert_eq!(stats.groups.count, 1);
 }
+
+#[test]
+fn a_world_built_in_contact_builds_each_group_once() {
+    // Every body is new and touches at the first step: one traversal builds the
+    // groups, none is built for a single body first and dissolved again.
+    let mut scene = scenes::stability::pyramid::pyramid_of(8);
+    let mut layer = ContactLayer::new();
+    let stats = common::run_validated(&mut scene, &mut layer, 0, 1);
+    assert!(stats.groups.count >= 1);
+    assert_eq!(
+        stats.groups.rebuilt, stats.groups.count,
+        "{:?}",
+        stats.groups
+    );
+    assert_eq!(groups(&layer), components(&layer));
+}

@@ -2,8 +2,6 @@
 //! the step's touch transitions applied to the physical edges, and the rescans that
 //! read touching pairs from Rapier where events cannot be trusted.
 
-use std::collections::BTreeMap;
-
 use rapier3d::geometry::{ColliderSet, ContactPair};
 use rapier3d::pipeline::ActiveEvents;
 use rapier3d::prelude::ColliderHandle;
@@ -230,6 +228,12 @@ impl Coherence {
     ) -> Vec<NodeId> {
         let mut nodes: Vec<NodeId> = Vec::new();
         if tally.all {
+            // Room for an edge and a count per pair at once (a world read in full for
+            // the first time creates one per touching pair): the pair count is known in
+            // O(1).
+            let pairs = view.narrow_phase.contact_pairs().size_hint().0;
+            graph.reserve_edges(pairs.saturating_sub(graph.edge_count()));
+            tally.counts.reserve(pairs);
             for pair in view.narrow_phase.contact_pairs() {
                 tally.visit(self, graph, view, screen, pair);
             }
@@ -273,7 +277,7 @@ impl Coherence {
         &mut self,
         graph: &mut ContactGraph,
         targets: Vec<EdgeId>,
-        counts: &BTreeMap<EdgeId, PairTally>,
+        counts: &TallyMap,
         changed: &mut Vec<EdgeId>,
         again: &mut Vec<EdgeId>,
     ) {
@@ -391,7 +395,7 @@ impl Coherence {
 fn touch_targets(
     graph: &ContactGraph,
     nodes: &[NodeId],
-    counts: &BTreeMap<EdgeId, PairTally>,
+    counts: &TallyMap,
     all: bool,
 ) -> Vec<EdgeId> {
     let mut targets: Vec<EdgeId> = if all {
@@ -437,8 +441,14 @@ fn mark_pre_flag(graph: &mut ContactGraph, view: &WorldView, mut pre_flag: Vec<N
     }
 }
 
+/// Per physical edge, what a rescan counted ([`TouchTally::counts`]).
+type TallyMap = std::collections::HashMap<EdgeId, PairTally, crate::graph::PairBuildHasher>;
+
 /// A collider pair by raw handles, smaller first.
 type RawPair = ((u32, u32), (u32, u32));
+
+/// A set of collider pairs (only asked whether it holds one, never iterated).
+type PairSet = std::collections::HashSet<RawPair, crate::graph::PairBuildHasher>;
 
 /// The collider pair `(a, b)` as a [`RawPair`], either order.
 fn raw_pair(a: ColliderHandle, b: ColliderHandle) -> RawPair {
@@ -453,12 +463,13 @@ fn raw_pair(a: ColliderHandle, b: ColliderHandle) -> RawPair {
 struct TouchTally {
     all: bool,
     /// The collider pairs that sent `Started` this step.
-    started: std::collections::HashSet<RawPair>,
+    started: PairSet,
     /// Touching pairs met already: a pair between two rescanned nodes is met from
     /// both.
-    seen: std::collections::HashSet<RawPair>,
-    /// Per physical edge, its touching collider pairs read and the pair it names.
-    counts: BTreeMap<EdgeId, PairTally>,
+    seen: PairSet,
+    /// Per physical edge, its touching collider pairs read and the pair it names
+    /// (never iterated in hash order: the edges set are sorted first).
+    counts: TallyMap,
     pre_flag: Vec<NodeId>,
 }
 
@@ -470,15 +481,18 @@ struct PairTally {
 
 impl TouchTally {
     fn new(events: &[TouchEvent], all: bool) -> Self {
-        Self {
-            all,
-            started: events
+        let mut started = PairSet::with_capacity_and_hasher(events.len(), Default::default());
+        started.extend(
+            events
                 .iter()
                 .filter(|e| e.started)
-                .map(|e| raw_pair(e.c1, e.c2))
-                .collect(),
+                .map(|e| raw_pair(e.c1, e.c2)),
+        );
+        Self {
+            all,
+            started,
             seen: Default::default(),
-            counts: BTreeMap::new(),
+            counts: TallyMap::default(),
             pre_flag: Vec::new(),
         }
     }

@@ -273,7 +273,10 @@ impl Coherence {
         let scan = scan && touch.is_none();
         if let Some(events) = touch {
             let thawed = self.thaw_edges(graph);
-            self.apply_touch_events(graph, view, screen, events, thawed);
+            // A full read sets every touching pair below: the events would only be
+            // applied to be read over (the first update under touching tracking).
+            let apply = if full { &[][..] } else { events };
+            self.apply_touch_events(graph, view, screen, apply, thawed);
             // A body disabled (made passive, or by Rapier's quarantine) loses its
             // pairs without a `Stopped`; one enabled again regains them; a body whose
             // collider was removed gets a `Stopped` that names a collider no longer

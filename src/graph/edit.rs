@@ -106,6 +106,13 @@ impl ContactGraph {
         removed
     }
 
+    /// Makes room for `additional` more edges (the edge slots and the pair index)
+    /// before a batch of insertions, so that none reallocates. O(edges) when it grows.
+    pub(crate) fn reserve_edges(&mut self, additional: usize) {
+        self.edges.reserve(additional);
+        self.pairs.reserve(additional);
+    }
+
     /// Inserts the edge `{a, b}` of `kind`, or returns the existing one. Both nodes
     /// must be live and distinct.
     pub(crate) fn ensure_edge(

@@ -35,8 +35,9 @@ impl Groups {
 
     /// The noted nodes, in node order: a member that insulates now leaves its group,
     /// a member without a group enters one; the others (already where they
-    /// belong, or in a group dissolved this step, which the traversal rebuilds) are
-    /// left alone. O(noted nodes' edges · log insulators).
+    /// belong, in a group dissolved this step, or queued as a root: the traversal
+    /// builds those) are left alone. O(noted nodes' edges · log insulators + roots ·
+    /// log roots).
     pub(super) fn apply_membership(
         &mut self,
         graph: &mut ContactGraph,
@@ -44,14 +45,22 @@ impl Groups {
         insulates: Insulates,
     ) {
         let mut noted = std::mem::take(&mut self.membership);
+        if noted.is_empty() {
+            self.membership = noted;
+            return;
+        }
         noted.sort_unstable();
         noted.dedup();
+        // New nodes are queued as roots: entering them one by one would only build
+        // groups the traversal dissolves again.
+        let mut roots = self.roots.clone();
+        roots.sort_unstable();
         for &n in &noted {
             let Some(node) = graph.node(n) else { continue };
             let member = member_kind(node.kind) && !node.passive && !insulates(graph, n);
             match (member, node.group) {
                 (false, Some(gid)) => self.leave(graph, gid, n, step),
-                (true, None) => self.enter(graph, n, step),
+                (true, None) if roots.binary_search(&n).is_err() => self.enter(graph, n, step),
                 _ => {}
             }
         }

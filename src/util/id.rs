@@ -132,9 +132,19 @@ impl PairKey {
 /// `std`'s `RandomState` seeds differ per process; the graph never *iterates* its hash
 /// map (iteration goes through the slot arrays), but a fixed hasher also keeps memory
 /// layout and timings reproducible between runs. The mixing is the 64-bit finaliser of
-/// MurmurHash3, enough for keys that are packed indices.
+/// MurmurHash3, enough for keys that are packed indices; a key of several words (a
+/// pair of collider handles) has each word folded in after the state so far is
+/// multiplied and rotated (as `FxHasher` does), so that no two words cancel.
 #[derive(Default, Clone, Copy)]
 pub struct PairHasher(u64);
+
+impl PairHasher {
+    /// Folds one word into the state; the first word of a key is taken as it is.
+    #[inline]
+    fn fold(&mut self, word: u64) {
+        self.0 = self.0.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(26) ^ word;
+    }
+}
 
 impl std::hash::Hasher for PairHasher {
     #[inline]
@@ -154,11 +164,11 @@ impl std::hash::Hasher for PairHasher {
     }
     #[inline]
     fn write_u64(&mut self, i: u64) {
-        self.0 ^= i;
+        self.fold(i);
     }
     #[inline]
     fn write_u32(&mut self, i: u32) {
-        self.0 ^= i as u64;
+        self.fold(i as u64);
     }
 }
 
@@ -193,5 +203,21 @@ mod tests {
         let h = |k: PairKey| b.hash_one(k);
         assert_ne!(h(PairKey::new(0, 1)), h(PairKey::new(0, 2)));
         assert_ne!(h(PairKey::new(0, 1)) & 0xff, h(PairKey::new(1, 2)) & 0xff);
+    }
+
+    #[test]
+    fn hasher_keeps_the_words_of_a_key_apart() {
+        use std::hash::BuildHasher;
+        let b = PairBuildHasher::default();
+        type Raw = ((u32, u32), (u32, u32));
+        let h = |k: Raw| b.hash_one(k);
+        // Swapped words, and words whose exclusive or is the same.
+        assert_ne!(h(((1, 0), (2, 0))), h(((2, 0), (1, 0))));
+        assert_ne!(h(((1, 0), (2, 0))), h(((0, 0), (3, 0))));
+        assert_ne!(h(((1, 5), (2, 5))), h(((1, 6), (2, 6))));
+        // A one-word key hashes as before: the word, then the finaliser.
+        let mut one = PairHasher::default();
+        std::hash::Hasher::write_u64(&mut one, 42);
+        assert_eq!(one.0, 42);
     }
 }
