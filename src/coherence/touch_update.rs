@@ -468,7 +468,7 @@ struct TouchTally {
     /// both.
     seen: PairSet,
     /// Per physical edge, its touching collider pairs read and the pair it names
-    /// (never iterated in hash order: the edges set are sorted first).
+    /// (never iterated in hash order: the edges it sets are sorted first).
     counts: TallyMap,
     pre_flag: Vec<NodeId>,
 }
