@@ -52,7 +52,7 @@ pub fn run(
     println!("  held/stock  min {lo:.3}  q1 {q1:.3}  median {med:.3}  q3 {q3:.3}  max {hi:.3}");
     println!(
         "  median ms   stock {:.3}   held {:.3}",
-        q(stock_t)[2],
-        q(held_t)[2]
+        super::median(stock_t),
+        super::median(held_t)
     );
 }
