@@ -288,3 +288,85 @@ fn a_held_box_made_dynamic_then_pushed_moves_as_a_sleeping_one() {
         "the held box rose {held} m, the sleeping one {stock} m"
     );
 }
+
+/// A settled pile of 120 boxes on a floor of strips whose middle strip is removed
+/// at step `SETTLE`, run `after` steps more.
+fn floor_strip_scene(after: u64) -> rcg_scenes::disturb::Disturbance {
+    rcg_scenes::disturb::support_removed(&rcg_scenes::disturb::DisturbParams {
+        boxes: 120,
+        seed: 0,
+        at: SETTLE,
+        after,
+    })
+}
+
+/// The boxes asleep in stock Rapier when the strip goes, and how many of them wake
+/// within `after` steps.
+fn floor_strip_woken(after: u64) -> (usize, usize) {
+    let mut d = floor_strip_scene(after);
+    d.run_plain(0, d.at);
+    let bodies = &d.scene.world.bodies;
+    let mut asleep: Vec<RigidBodyHandle> = d
+        .pile
+        .iter()
+        .copied()
+        .filter(|&h| bodies[h].is_sleeping())
+        .collect();
+    let count = asleep.len();
+    for step in d.at..d.steps {
+        d.run_plain(step, 1);
+        asleep.retain(|&h| d.scene.world.bodies[h].is_sleeping());
+    }
+    (count, count - asleep.len())
+}
+
+/// The boxes held when the strip goes under `config`, and how many of them are
+/// released within `after` steps.
+fn floor_strip_released(config: SpeedUps, after: u64) -> (usize, usize) {
+    let mut d = floor_strip_scene(after);
+    let mut layer = ContactLayer::new();
+    layer.speedups_mut().set(Some(config)).unwrap();
+    let mut held = Vec::new();
+    let mut count = 0;
+    for step in 0..d.steps {
+        if step == d.at {
+            let s = layer.speedups().unwrap();
+            held = d
+                .pile
+                .iter()
+                .copied()
+                .filter(|&h| s.is_fixated(h))
+                .collect();
+            count = held.len();
+        }
+        d.before_step(step);
+        common::step_validated(&mut d.scene, &mut layer, step);
+        let s = layer.speedups().unwrap();
+        held.retain(|&h| s.is_fixated(h));
+    }
+    (count, count - held.len())
+}
+
+#[test]
+fn a_held_pile_beside_a_removed_floor_strip_wakes_as_a_sleeping_one() {
+    // Rapier wakes the island that touched a removed collider whole: the boxes beside
+    // the trench slide after those that fall. The held pile's group is released with
+    // the boxes that lost their support, within the release budget's steps.
+    let (asleep, woken) = floor_strip_woken(20);
+    let (held, released) = floor_strip_released(preset(true), 20);
+    let (_, alone) = floor_strip_released(preset(false), 20);
+    eprintln!("stock: {woken} of {asleep} woken; layer: {released} of {held} released, {alone} without the group release");
+    assert!(
+        asleep >= 100 && held >= 100,
+        "the pile was asleep ({asleep}) and held ({held})"
+    );
+    assert!(
+        released >= woken,
+        "the held pile answers as the sleeping one: {released} released, {woken} woken"
+    );
+    // Without the group release only what rested on the strip, transitively.
+    assert!(
+        alone < woken,
+        "without the group release part of the pile stays held ({alone} released)"
+    );
+}

@@ -151,7 +151,8 @@ impl SpeedUps {
     /// group it touches still moves fast; it is released before a
     /// moving body reaches it, with as much of its held group as the disturbance can
     /// move, and not held again while that body still moves; and when its support
-    /// goes (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to
+    /// goes, with its held group when a support was removed or moved under it
+    /// (`docs/ARCHITECTURE.md`, "Releasing held bodies"). A pile that comes to
     /// rest at once is held over a few steps, so that no step pays Rapier's answer to
     /// a whole pile's change of type; likewise a release that spreads through a
     /// large held pile is given back over a few steps, nearest first, while what a

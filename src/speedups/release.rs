@@ -17,7 +17,9 @@
 //!   nearest first, at most [`release_budget`] bodies a step; the rest at the next
 //!   analyses.
 //! - **Support**: a held body whose remembered support is gone is released, with
-//!   what rests on it, transitively.
+//!   what rests on it, transitively; when the world under it changed (a static
+//!   supporter removed or moved, a body removed), the rest of its held group
+//!   follows, given back as a spread is.
 //! - **Owner**: a held body the user turned into another type is the user's again.
 //!
 //! Cost: O(fast bodies × (log held boxes + held boxes met)) per step while anything
@@ -221,10 +223,29 @@ impl SpeedUpState {
         budget: f32,
         mass: impl Fn(RigidBodyHandle) -> f32,
     ) -> Vec<RigidBodyHandle> {
-        let mut out = vec![h];
-        let mut left = budget - mass(h);
-        let mut seen: BTreeSet<(u32, u32)> = BTreeSet::from([key(h)]);
-        let mut queue = std::collections::VecDeque::from([key(h)]);
+        self.held_group_from(&[h], budget, mass)
+    }
+
+    /// [`Self::held_group`] from several bodies at once, in one walk: `starts` (each
+    /// once, in the order given), then the held bodies linked to them, nearest to any
+    /// of them first. O(bodies found × their links · log).
+    fn held_group_from(
+        &self,
+        starts: &[RigidBodyHandle],
+        budget: f32,
+        mass: impl Fn(RigidBodyHandle) -> f32,
+    ) -> Vec<RigidBodyHandle> {
+        let mut out = Vec::with_capacity(starts.len());
+        let mut left = budget;
+        let mut seen: BTreeSet<(u32, u32)> = BTreeSet::new();
+        let mut queue = std::collections::VecDeque::new();
+        for &h in starts {
+            if seen.insert(key(h)) {
+                left -= mass(h);
+                out.push(h);
+                queue.push_back(key(h));
+            }
+        }
         while let Some(k) = queue.pop_front() {
             let Some(held) = self.held.get(&k) else {
                 continue;
@@ -253,9 +274,14 @@ impl SpeedUpState {
 
     /// Releases the held bodies whose remembered support is gone (a supporter removed,
     /// moved or released from under them), with what rests on them, transitively:
-    /// they fall as a sleeping body falls when what it rests on goes. O(released
-    /// bodies × their dependents · log).
-    pub(super) fn release_unsupported(&mut self, graph: &ContactGraph) {
+    /// they fall as a sleeping body falls when what it rests on goes. With `whole`
+    /// (the world under them changed: a static supporter moved or removed, a body
+    /// removed, gravity turned) and [`super::SpeedUps::release_group`], the rest of
+    /// their held group follows from the next analysis on, nearest first, within
+    /// [`release_budget`], as Rapier wakes a sleeping island whole when a collider
+    /// touching it goes. O(released bodies × their dependents · log), plus O(group ×
+    /// links · log) with `whole`.
+    pub(super) fn release_unsupported(&mut self, graph: &ContactGraph, whole: bool) {
         let mut queue: Vec<(u32, u32)> = self.unsupported.iter().copied().collect();
         let mut seen: BTreeSet<(u32, u32)> = queue.iter().copied().collect();
         let mut out: Vec<RigidBodyHandle> = Vec::new();
@@ -274,6 +300,10 @@ impl SpeedUpState {
             }
         }
         out.sort_by_key(|&h| key(h));
+        if whole && self.config.release_group && !out.is_empty() {
+            let group = self.held_group_from(&out, f32::INFINITY, |_| 0.0);
+            self.later.extend_from_slice(&group[out.len()..]);
+        }
         self.queue_releases(out);
     }
 

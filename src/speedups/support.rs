@@ -106,7 +106,13 @@ pub(super) enum SupportChange {
     Touches(Vec<(u32, u32)>),
     /// Held bodies were removed, a node removed, gravity turned, a static supporter
     /// moved or a scripted one moves (or no partial evaluation applies).
-    Everything,
+    Everything {
+        /// Whether the world under the held bodies changed (a node removed, gravity
+        /// turned, a static supporter moved or a scripted one moves), not only
+        /// what the memory knows: a support lost then is released with its held
+        /// group ([`SpeedUpState::release_unsupported`]).
+        world: bool,
+    },
 }
 
 /// Spreads "supported" from the bases up: `links` holds (supporter, dependent) index
@@ -130,8 +136,9 @@ impl SpeedUpState {
     /// changed ([`Self::support_changed`]): in part when only touches of held bodies
     /// began or ended or held bodies were released ([`Self::evaluate_support_from`]),
     /// in full otherwise; else only
-    /// the newly held bodies, unless one of them is unsupported; then the held bodies
-    /// to park are chosen.
+    /// the newly held bodies, unless one of them is unsupported; then the unsupported
+    /// bodies are released (with their held group when the world under them changed)
+    /// and the held bodies to park are chosen.
     pub(super) fn decide_support(
         &mut self,
         graph: &ContactGraph,
@@ -139,8 +146,10 @@ impl SpeedUpState {
         up: Vector,
         changes: &StepChanges,
     ) {
-        match self.support_changed(graph, view, up, changes) {
-            SupportChange::Everything => self.evaluate_support(graph, view, up),
+        let change = self.support_changed(graph, view, up, changes);
+        let world = matches!(change, SupportChange::Everything { world: true });
+        match change {
+            SupportChange::Everything { .. } => self.evaluate_support(graph, view, up),
             SupportChange::Touches(mut keys) => {
                 // Bodies held since the last evaluation are judged with the touched
                 // ones, their static supporters watched from now on.
@@ -161,7 +170,7 @@ impl SpeedUpState {
             }
         }
         self.newly_held.clear();
-        self.release_unsupported(graph);
+        self.release_unsupported(graph, world);
         self.choose_parking(view);
     }
 

@@ -31,17 +31,20 @@ impl SpeedUpState {
         changes: &StepChanges,
     ) -> SupportChange {
         let StepChanges { nodes_removed, .. } = *changes;
-        if self.support_dirty || nodes_removed || up != self.support_up {
-            return SupportChange::Everything;
+        if nodes_removed || up != self.support_up {
+            return SupportChange::Everything { world: true };
+        }
+        if self.support_dirty {
+            return SupportChange::Everything { world: false };
         }
         let keys = self.touch_ends(graph, changes);
         let Some(retyped) = self.watch_retyped(graph, view) else {
-            return SupportChange::Everything;
+            return SupportChange::Everything { world: true };
         };
         let partial = !retyped && self.support_partial_ok && up.is_finite() && up != Vector::ZERO;
         match (keys.is_empty() && self.released.is_empty(), partial) {
             (true, _) => SupportChange::Nothing { partial },
-            (false, false) => SupportChange::Everything,
+            (false, false) => SupportChange::Everything { world: false },
             (false, true) => SupportChange::Touches(keys),
         }
     }
