@@ -16,8 +16,9 @@
 //! refinements (8 solver iterations; half the time step), then stock Rapier, the
 //! layer with `SpeedUps::default()`, `reliable_sleep()`, `reliable_sleep()` with the
 //! monitor repairing, and `papers_fastest()` (`--configs` picks some of these by their
-//! short names; the reference and its refinements always run, since they make the
-//! tolerance). Prints per scene a table of each
+//! short names, or names `rel-rest50`, run only when named: `reliable_sleep()` holding
+//! a body after 0.5 s at rest; the reference and its refinements always run, since
+//! they make the tolerance). Prints per scene a table of each
 //! observable's mean over seeds and, per configuration, its paired difference from
 //! the reference with the 95 % interval's half width and the verdict (`=` equivalent,
 //! `+`/`-` differs upwards/downwards, `?` undecided, `!` not finite). Writes
@@ -63,8 +64,9 @@ pub struct Args {
     #[arg(long)]
     pub quick: bool,
     /// The configurations judged: `all` or a comma list of their short names (stock,
-    /// sleep, reliable, rel-nogroup, reliable+rep, fastest). The reference and its
-    /// refinements always run.
+    /// sleep, reliable, rel-nogroup, reliable+rep, fastest; and, only when named,
+    /// rel-rest50: `reliable_sleep()` holding a body after 0.5 s at rest). The
+    /// reference and its refinements always run.
     #[arg(long, value_name = "all|LIST", default_value = "all", value_parser = parse_configs)]
     pub configs: Configs,
     /// Directory for runs.csv and results.csv.
@@ -79,10 +81,11 @@ pub struct Configs(pub Vec<Config>);
 /// The configurations of a `--configs` value, by short name; unknown names and an
 /// empty list are errors.
 pub fn parse_configs(list: &str) -> Result<Configs, String> {
-    let known = configs();
+    let all = configs();
     if list == "all" {
-        return Ok(Configs(known));
+        return Ok(Configs(all));
     }
+    let known: Vec<Config> = all.into_iter().chain(disturb::named_only()).collect();
     let mut out: Vec<Config> = Vec::new();
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let found = known.iter().find(|c| c.short == item).ok_or(format!(
@@ -385,5 +388,14 @@ mod tests {
         assert_eq!(shorts, ["stock", "fastest"]);
         assert!(parse_configs("nope").unwrap_err().contains("nope"));
         assert!(parse_configs(" , ").is_err());
+    }
+
+    #[test]
+    fn a_named_only_configuration_runs_when_named_and_not_under_all() {
+        let all = parse_configs("all").unwrap().0;
+        assert!(all.iter().all(|c| c.short != "rel-rest50"));
+        let picked = parse_configs("rel-rest50,reliable").unwrap().0;
+        let shorts: Vec<&str> = picked.iter().map(|c| c.short).collect();
+        assert_eq!(shorts, ["reliable", "rel-rest50"]);
     }
 }

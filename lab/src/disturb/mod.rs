@@ -102,6 +102,27 @@ pub fn refinements() -> [Config; 2] {
     ]
 }
 
+/// Steps at rest before `rel-rest50` holds a body (0.5 s at dt = 0.01; the preset's
+/// `sleepy_steps` is 20).
+pub const LATE_HOLD_STEPS: u32 = 50;
+
+/// Configurations run only when named (`--configs`): `reliable_sleep()` holding a body
+/// only after [`LATE_HOLD_STEPS`] steps at rest, to measure what holding later trades
+/// (a settling pile held sooner resumes its settling when a disturbance releases it).
+pub fn named_only() -> Vec<Config> {
+    vec![Config {
+        name: "reliable_sleep, held after 0.5 s at rest",
+        short: "rel-rest50",
+        setting: Setting::Layer {
+            speedups: SpeedUps {
+                sleepy_steps: LATE_HOLD_STEPS,
+                ..SpeedUps::reliable_sleep()
+            },
+            repair: false,
+        },
+    }]
+}
+
 /// The configurations judged against the reference: stock Rapier, the layer's sleep
 /// (`SpeedUps::default()`), `reliable_sleep()` without and with the monitor repairing,
 /// `reliable_sleep()` with the release confined to the bodies reached (the
