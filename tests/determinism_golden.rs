@@ -65,9 +65,9 @@ use rcg_scenes as scenes;
 // two did not.
 
 /// Every speed-up on: pose checkpoints, final pose, event stream.
-const GOLDEN_ALL_POSES: u64 = 0x0b02_bb2e_f779_b4a8;
-const GOLDEN_ALL_FINAL: u64 = 0x5950_c358_8bb1_4bde;
-const GOLDEN_ALL_EVENTS: u64 = 0xe058_31f6_6a52_0cb1;
+const GOLDEN_ALL_POSES: u64 = 0x0315_bed9_2e53_b796;
+const GOLDEN_ALL_FINAL: u64 = 0xd089_7f3b_2266_a9a0;
+const GOLDEN_ALL_EVENTS: u64 = 0x8a5a_b03b_ab6f_cfaa;
 /// `SpeedUps::none()`.
 const GOLDEN_NONE_POSES: u64 = 0x91b4_8c73_eeb0_02d0;
 const GOLDEN_NONE_FINAL: u64 = 0xea52_db4c_bfc2_35f8;
@@ -86,9 +86,9 @@ const GOLDEN_OBSERVE_EVENTS: u64 = 0x03d0_0f6e_58d4_d9f8;
 
 /// Every speed-up on, `enhanced-determinism`.
 const ED_ALL: [u64; 3] = [
-    0x3126_af09_7deb_b371,
-    0x023e_51c3_3d1c_4503,
-    0x7e25_386d_d22e_dafe,
+    0xc5d5_cea0_d330_cf83,
+    0x62a4_15da_9513_02e4,
+    0x03e5_63aa_2936_5f9a,
 ];
 /// `SpeedUps::none()`, `enhanced-determinism`.
 const ED_NONE: [u64; 3] = [

@@ -8,14 +8,14 @@
 //!   ([`REACH_STEPS`]), looked up in the layer's own tree of held bodies' boxes
 //!   (`held_boxes.rs`); a moving kinematic body, all of them. Either also frees the
 //!   held bodies jointed to it.
-//! - **Group**: the release spreads from a reached body to the held bodies it touched
-//!   when it was held, or that touched it, nearest first, as far as the reaching
-//!   body's momentum could set them moving ([`REACH_MASS_MARGIN`] × its momentum /
-//!   `release_speed`, in kg of held bodies); a kinematic body's or the user's
-//!   release has no bound: the held part of the contact group wakes whole
-//!   ([`super::SpeedUps::release_group`]). What a spread reaches is given back
-//!   nearest first, at most [`release_budget`] bodies a step; the rest at the next
-//!   analyses.
+//! - **Group**: the release spreads from the bodies one moving body reached, in one
+//!   walk, to the held bodies they touched when they were held, or that touched
+//!   them, nearest first, as far as the moving body's momentum could set them moving
+//!   ([`REACH_MASS_MARGIN`] × its momentum / `release_speed`, in kg of held
+//!   bodies); a kinematic body's or the user's release has no bound: the held part
+//!   of the contact group wakes whole ([`super::SpeedUps::release_group`]). What a
+//!   spread reaches is given back nearest first, at most [`release_budget`] bodies
+//!   a step; the rest at the next analyses.
 //! - **Support**: a held body whose remembered support is gone is released, with
 //!   what rests on it, transitively; when the world under it changed (a static
 //!   supporter removed or moved, a body removed), the rest of its held group
@@ -41,8 +41,9 @@ pub(crate) const REACH_STEPS: f32 = 2.0;
 
 /// How much more held mass a disturbance releases than its momentum could set moving
 /// at `release_speed`: a margin, since a push spreads sideways through a pile and
-/// its contacts carry it on.
-pub(crate) const REACH_MASS_MARGIN: f32 = 4.0;
+/// its contacts carry it on. Calibrated on the disturbance scenes
+/// (`docs/results.md`, "One spread per disturbance").
+pub(crate) const REACH_MASS_MARGIN: f32 = 3.0;
 
 /// The most held bodies a step releases through a release's spread (rule 2) beyond
 /// the bodies released directly: [`RELEASE_BUDGET_SHARE`]'s share of the world's
@@ -63,9 +64,10 @@ pub(crate) const RELEASE_BUDGET_MIN: usize = 32;
 /// one in this many (see [`release_budget`]).
 pub(crate) const RELEASE_BUDGET_SHARE: usize = 4;
 
-/// A release decided this step, with how far it may spread: the mass of held bodies,
-/// in kg, it may set moving (infinite: the whole held group).
-type Seed = (RigidBodyHandle, f32);
+/// A release decided this step: the held bodies one cause frees at once (one body the
+/// user took back, or what one moving body reaches), and how far their spread may go:
+/// the mass of held bodies, in kg, it may set moving (infinite: the whole held group).
+type Seed = (Vec<RigidBodyHandle>, f32);
 
 impl SpeedUpState {
     /// Decides this step's releases: the held bodies the user took back, those a
@@ -146,35 +148,32 @@ impl SpeedUpState {
             } else {
                 f32::INFINITY
             };
-            let from = seeds.len();
+            let mut met = Vec::new();
             let reach = (speed * view.dt * REACH_STEPS).max(0.0);
             for &c in rb.colliders() {
                 let Some(co) = view.colliders.get(c) else {
                     continue;
                 };
                 let aabb = co.compute_aabb().loosened(reach);
-                seeds.extend(
+                met.extend(
                     self.held_boxes
                         .meeting(&aabb)
                         .filter(|&p| p != h && self.is_fixated(p))
-                        .filter(|&p| !simulated || approaches(view, rb, p))
-                        .map(|p| (p, 0.0)),
+                        .filter(|&p| !simulated || approaches(view, rb, p)),
                 );
             }
             // What it drags by a joint.
             for (b1, b2, _, _) in view.impulse_joints.attached_joints(h) {
                 let other = if b1 == h { b2 } else { b1 };
                 if other != h && self.is_fixated(other) {
-                    seeds.push((other, 0.0));
+                    met.push(other);
                 }
             }
-            // The momentum is shared by what it reaches; what it releases joins its wave.
-            if seeds.len() > from {
+            // One spread from all it reaches, with its whole momentum; what it releases
+            // joins its wave.
+            if !met.is_empty() {
                 self.waves.reached_from(h);
-            }
-            let reached = (seeds.len() - from) as f32;
-            for seed in &mut seeds[from..] {
-                seed.1 = budget / reached;
+                seeds.push((met, budget));
             }
         }
     }
@@ -184,15 +183,14 @@ impl SpeedUpState {
     /// mass budget lasts (see the module doc), after those put off before, up to
     /// `budget` this step; the rest wait in [`SpeedUpState::later`]. O((released +
     /// put off) × their links · log).
-    fn spread_releases(&mut self, view: &WorldView, mut seeds: Vec<Seed>, budget: usize) {
-        seeds.sort_by_key(|&(h, _)| key(h));
-        let now: Vec<RigidBodyHandle> = seeds.iter().map(|&(h, _)| h).collect();
+    fn spread_releases(&mut self, view: &WorldView, seeds: Vec<Seed>, budget: usize) {
+        let mut now: Vec<RigidBodyHandle> = seeds.iter().flat_map(|(b, _)| b.clone()).collect();
+        now.sort_by_key(|&h| key(h));
         let mut spread = std::mem::take(&mut self.later);
         if self.config.release_group {
-            for (h, budget) in seeds {
-                let group =
-                    self.held_group(h, budget, |b| held_mass(view.bodies, view.colliders, b));
-                spread.extend(group.into_iter().skip(1));
+            for (starts, budget) in &seeds {
+                let mass = |b| held_mass(view.bodies, view.colliders, b);
+                spread.extend(self.held_group_from(starts, *budget, mass));
             }
         }
         let mut seen: BTreeSet<(u32, u32)> = now.iter().map(|&h| key(h)).collect();
@@ -331,7 +329,7 @@ impl SpeedUpState {
                 .get(h)
                 .is_some_and(|rb| !rb.is_fixed() || (!rb.is_enabled() && !parking))
             {
-                seeds.push((h, f32::INFINITY));
+                seeds.push((vec![h], f32::INFINITY));
             }
         }
     }
