@@ -65,9 +65,9 @@ use rcg_scenes as scenes;
 // two did not.
 
 /// Every speed-up on: pose checkpoints, final pose, event stream.
-const GOLDEN_ALL_POSES: u64 = 0x0315_bed9_2e53_b796;
-const GOLDEN_ALL_FINAL: u64 = 0xd089_7f3b_2266_a9a0;
-const GOLDEN_ALL_EVENTS: u64 = 0x8a5a_b03b_ab6f_cfaa;
+const GOLDEN_ALL_POSES: u64 = 0x789d_a629_c652_61f6;
+const GOLDEN_ALL_FINAL: u64 = 0xcf3c_1d27_da8a_4b17;
+const GOLDEN_ALL_EVENTS: u64 = 0xddad_df94_7af4_c902;
 /// `SpeedUps::none()`.
 const GOLDEN_NONE_POSES: u64 = 0x91b4_8c73_eeb0_02d0;
 const GOLDEN_NONE_FINAL: u64 = 0xea52_db4c_bfc2_35f8;
@@ -86,9 +86,9 @@ const GOLDEN_OBSERVE_EVENTS: u64 = 0x03d0_0f6e_58d4_d9f8;
 
 /// Every speed-up on, `enhanced-determinism`.
 const ED_ALL: [u64; 3] = [
-    0xc5d5_cea0_d330_cf83,
-    0x62a4_15da_9513_02e4,
-    0x03e5_63aa_2936_5f9a,
+    0x696f_6f35_9a8b_6cec,
+    0x6bb8_e2d7_c517_ccc7,
+    0x529a_a38c_4d3a_c154,
 ];
 /// `SpeedUps::none()`, `enhanced-determinism`.
 const ED_NONE: [u64; 3] = [

@@ -10,32 +10,17 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::speedups::SpeedUps;
 use rapier_contact_graph::ContactLayer;
 
-/// The layer's boxes: half extent, m, and boxes along a side.
+/// The floor's boxes: half extent, m, and boxes along a side.
 const HALF: f32 = 0.2;
 const SIDE: usize = 12;
-/// The ground's top.
-const TOP: f32 = 0.5;
 
-/// A floor of 12 × 12 boxes side by side on the ground, touching, one layer deep.
-fn floor_of_boxes() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
-    let (mut world, _) = common::build::world_with_ground();
-    let start = -(SIDE as f32 - 1.0) * HALF;
-    let boxes = (0..SIDE * SIDE)
-        .map(|i| {
-            let (x, z) = ((i % SIDE) as f32, (i / SIDE) as f32);
-            let at = [start + 2.0 * HALF * x, TOP + HALF, start + 2.0 * HALF * z];
-            common::build::box_at(&mut world, at, HALF).0
-        })
-        .collect();
-    (world, boxes)
-}
-
-/// The floor settled and held, then a wide slab (1.2 m × 0.2 m × 1.2 m, density
-/// `density`) dropped on its middle at 2 m/s, from 5 cm over it. Returns the boxes
-/// held when the slab came, the held boxes released within 10 steps, and the
-/// held mass the slab's momentum could set moving at `release_speed`, in boxes.
+/// A floor of 12 × 12 boxes settled and held, then a wide slab (1.2 m × 0.2 m ×
+/// 1.2 m, density `density`) dropped on its middle at 2 m/s, from 5 cm over it.
+/// Returns the boxes held when the slab came, the held boxes released within 10
+/// steps, and the held mass the slab's momentum could set moving at
+/// `release_speed`, in boxes.
 fn slab_dropped(density: f32) -> (usize, usize, f32) {
-    let (world, boxes) = floor_of_boxes();
+    let (world, boxes) = common::build::floor_of_boxes(SIDE, HALF);
     let mut scene = rcg_scenes::Scene {
         name: "floor_of_boxes",
         world,
@@ -52,12 +37,7 @@ fn slab_dropped(density: f32) -> (usize, usize, f32) {
         boxes.iter().copied().filter(|&h| s.is_fixated(h)).collect();
     let count = held.len();
     let speed = 2.0;
-    let (slab, _) = scene.world.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(0.0, TOP + 2.0 * HALF + 0.15, 0.0))
-            .linvel(Vector::new(0.0, -speed, 0.0)),
-        ColliderBuilder::cuboid(0.6, 0.1, 0.6).density(density),
-    );
+    let slab = common::build::slab_over_floor(&mut scene.world, HALF, density, speed);
     for step in 60..70 {
         common::step_validated(&mut scene, &mut layer, step);
         let s = layer.speedups().unwrap();

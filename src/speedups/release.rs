@@ -115,7 +115,7 @@ impl SpeedUpState {
     /// refreshed body faster than `release_speed` that is not sleepy, and each moving
     /// kinematic body, with the mass its momentum may set moving. O(such bodies ×
     /// (log held + held boxes met)).
-    // Long: one sweep per moving body over what it reaches, its joints and the momentum shared.
+    // Long: one sweep per moving body over what it reaches, its joints and its one spread.
     fn reached(
         &mut self,
         graph: &ContactGraph,
@@ -169,8 +169,11 @@ impl SpeedUpState {
                     met.push(other);
                 }
             }
-            // One spread from all it reaches, with its whole momentum; what it releases
+            // One spread from all it reaches, with its whole momentum, in handle order
+            // (the tree's order is not restored with a snapshot); what it releases
             // joins its wave.
+            met.sort_by_key(|&h| key(h));
+            met.dedup();
             if !met.is_empty() {
                 self.waves.reached_from(h);
                 seeds.push((met, budget));
@@ -184,7 +187,8 @@ impl SpeedUpState {
     /// `budget` this step; the rest wait in [`SpeedUpState::later`]. O((released +
     /// put off) × their links · log).
     fn spread_releases(&mut self, view: &WorldView, seeds: Vec<Seed>, budget: usize) {
-        let mut now: Vec<RigidBodyHandle> = seeds.iter().flat_map(|(b, _)| b.clone()).collect();
+        let mut now: Vec<RigidBodyHandle> =
+            seeds.iter().flat_map(|(b, _)| b.iter().copied()).collect();
         now.sort_by_key(|&h| key(h));
         let mut spread = std::mem::take(&mut self.later);
         if self.config.release_group {

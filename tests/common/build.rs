@@ -158,3 +158,38 @@ pub fn throw_heavy_ball(world: &mut PhysicsWorld) -> RigidBodyHandle {
         .insert(body, ColliderBuilder::ball(0.35).density(4.0))
         .0
 }
+
+/// On a [`ground`]: a floor of `side` × `side` cubes of half extent `half`, side by
+/// side and touching, one layer deep, centred on the origin; returns the world and
+/// the cubes in insertion order.
+pub fn floor_of_boxes(side: usize, half: Real) -> (PhysicsWorld, Vec<RigidBodyHandle>) {
+    let (mut world, _) = world_with_ground();
+    let start = -(side as Real - 1.0) * half;
+    let boxes = (0..side * side)
+        .map(|i| {
+            let (x, z) = ((i % side) as Real, (i / side) as Real);
+            let at = [start + 2.0 * half * x, 0.5 + half, start + 2.0 * half * z];
+            box_at(&mut world, at, half).0
+        })
+        .collect();
+    (world, boxes)
+}
+
+/// A slab (1.2 m × 0.2 m × 1.2 m, `density`) over the middle of a [`floor_of_boxes`]
+/// of cubes of half extent `half`, 5 cm above it, coming down at `speed`.
+pub fn slab_over_floor(
+    world: &mut PhysicsWorld,
+    half: Real,
+    density: Real,
+    speed: Real,
+) -> RigidBodyHandle {
+    let y = 0.5 + 2.0 * half + 0.05 + 0.1;
+    world
+        .insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(0.0, y, 0.0))
+                .linvel(Vector::new(0.0, -speed, 0.0)),
+            ColliderBuilder::cuboid(0.6, 0.1, 0.6).density(density),
+        )
+        .0
+}
