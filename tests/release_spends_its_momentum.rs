@@ -1,7 +1,7 @@
 //! A hit releases the held mass its momentum could set moving (paper §7, fixation):
 //! the spread from everything one moving body reaches is one walk with the body's
 //! whole budget, not a walk per reached body with a share of it, which overlapped
-//! near the impact and released little more than the bodies reached
+//! near the impact and released far less than the budget
 //! (`docs/ARCHITECTURE.md`, "Releasing held bodies", *Group*).
 
 mod common;

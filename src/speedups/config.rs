@@ -89,11 +89,11 @@ pub struct SpeedUps {
     /// is not held again until it is slower than this (or stopped, if kinematic),
     /// m/s. Default 0.5.
     pub release_speed: f32,
-    /// A release spreads from a released body through the held bodies it touched
-    /// when held, or that touched it, nearest first, as far as the disturbance's
-    /// momentum reaches (a kinematic body's and the user's: the whole held group, as
-    /// a sleeping Rapier island wakes whole); off, only the bodies reached are
-    /// released. Default on.
+    /// A release spreads from the bodies a disturbance released through the held
+    /// bodies they touched when held, or that touched them, nearest first, in one
+    /// walk per disturbance, as far as its momentum reaches (a kinematic body's and
+    /// the user's: the whole held group, as a sleeping Rapier island wakes whole);
+    /// off, only the bodies reached are released. Default on.
     pub release_group: bool,
 }
 
