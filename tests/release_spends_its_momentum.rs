@@ -21,12 +21,7 @@ const SIDE: usize = 12;
 /// `release_speed`, in boxes.
 fn slab_dropped(density: f32) -> (usize, usize, f32) {
     let (world, boxes) = common::build::floor_of_boxes(SIDE, HALF);
-    let mut scene = rcg_scenes::Scene {
-        name: "floor_of_boxes",
-        world,
-        bodies: Vec::new(),
-        script: None,
-    };
+    let mut scene = common::plain_scene("floor_of_boxes", world);
     let config = SpeedUps::reliable_sleep();
     let release_speed = config.release_speed;
     let mut layer = ContactLayer::new();

@@ -356,12 +356,7 @@ fn a_restored_held_floor_hit_by_a_slab_continues_bit_for_bit() {
     // depend on the layer's tree of held boxes, which a restore builds anew.
     let floor = || {
         let (world, _) = common::build::floor_of_boxes(12, 0.2);
-        Scene {
-            name: "floor_of_boxes",
-            world,
-            bodies: Vec::new(),
-            script: None,
-        }
+        common::plain_scene("floor_of_boxes", world)
     };
     let mut t = Twins::split(floor(), held_layer(), 60, &mut no_predicates());
     assert_eq!(

@@ -72,8 +72,8 @@ type Seed = (Vec<RigidBodyHandle>, f32);
 impl SpeedUpState {
     /// Decides this step's releases: the held bodies the user took back, those a
     /// moving body is about to reach, each cause's spread through the held group as
-    /// far as its budget reaches. O(refreshed bodies + fast bodies × (log held + held boxes met) +
-    /// released bodies × their links · log).
+    /// far as its budget reaches. O(refreshed bodies + fast bodies × (log held + held
+    /// boxes met) + released bodies × their links · log).
     pub(super) fn decide_releases(
         &mut self,
         graph: &ContactGraph,

@@ -6,8 +6,11 @@
 
 use rapier3d::prelude::*;
 
+/// The height of the [`ground`]'s top face (its box, 1 m high, centred at the origin).
+pub const GROUND_TOP: Real = 0.5;
+
 /// A fixed ground body at the origin with a 10 m × 1 m × 10 m box (its top at
-/// y = 0.5): the floor of most small tests.
+/// [`GROUND_TOP`]): the floor of most small tests.
 pub fn ground(world: &mut PhysicsWorld) -> (RigidBodyHandle, ColliderHandle) {
     world.insert(
         RigidBodyBuilder::fixed(),
@@ -168,7 +171,11 @@ pub fn floor_of_boxes(side: usize, half: Real) -> (PhysicsWorld, Vec<RigidBodyHa
     let boxes = (0..side * side)
         .map(|i| {
             let (x, z) = ((i % side) as Real, (i / side) as Real);
-            let at = [start + 2.0 * half * x, 0.5 + half, start + 2.0 * half * z];
+            let at = [
+                start + 2.0 * half * x,
+                GROUND_TOP + half,
+                start + 2.0 * half * z,
+            ];
             box_at(&mut world, at, half).0
         })
         .collect();
@@ -183,7 +190,7 @@ pub fn slab_over_floor(
     density: Real,
     speed: Real,
 ) -> RigidBodyHandle {
-    let y = 0.5 + 2.0 * half + 0.05 + 0.1;
+    let y = GROUND_TOP + 2.0 * half + 0.05 + 0.1;
     world
         .insert(
             RigidBodyBuilder::dynamic()

@@ -7,6 +7,16 @@ use rapier3d::prelude::*;
 use rapier_contact_graph::{ContactLayer, NodeId, StepStats};
 use rcg_scenes::Scene;
 
+/// A scene named `name` around `world`, with no named bodies and no script.
+pub fn plain_scene(name: &'static str, world: PhysicsWorld) -> Scene {
+    Scene {
+        name,
+        world,
+        bodies: Vec::new(),
+        script: None,
+    }
+}
+
 /// Steps a scene with the layer `n` times (script first), validating after every step.
 pub fn run_validated(scene: &mut Scene, layer: &mut ContactLayer, first: u64, n: u64) -> StepStats {
     let mut stats = StepStats::default();
