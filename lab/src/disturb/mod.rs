@@ -108,7 +108,8 @@ pub const LATE_HOLD_STEPS: u32 = 50;
 
 /// Configurations run only when named (`--configs`): `reliable_sleep()` holding a body
 /// only after [`LATE_HOLD_STEPS`] steps at rest, to measure what holding later trades
-/// (a settling pile held sooner resumes its settling when a disturbance releases it).
+/// (`docs/results.md`, "One spread per disturbance": with one spread, the bin hit's
+/// count no longer depends on it).
 pub fn named_only() -> Vec<Config> {
     vec![Config {
         name: "reliable_sleep, held after 0.5 s at rest",
