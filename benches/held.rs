@@ -115,7 +115,8 @@ struct Args {
     #[arg(long)]
     monitor: bool,
     /// The held world's layer: reliable (`SpeedUps::reliable_sleep()`), fastest
-    /// (`SpeedUps::papers_fastest()`) or observe (no speed-ups).
+    /// (`SpeedUps::papers_fastest()`), reliable-nowrites (`reliable_sleep()` with
+    /// `release_written` off) or observe (no speed-ups).
     #[arg(long, default_value = "reliable")]
     preset: String,
     /// Instead of the table: the `N` slowest steps of the held world of each scene,
@@ -173,6 +174,10 @@ fn config(preset: &str) -> Option<Option<SpeedUps>> {
     match preset {
         "reliable" => Some(Some(SpeedUps::reliable_sleep())),
         "fastest" => Some(Some(SpeedUps::papers_fastest())),
+        "reliable-nowrites" => Some(Some(SpeedUps {
+            release_written: false,
+            ..SpeedUps::reliable_sleep()
+        })),
         "observe" => Some(None),
         _ => None,
     }
@@ -225,7 +230,7 @@ fn floor_of(scene: &str, held: &PhysicsWorld, layer: &ContactLayer) -> PhysicsWo
             continue;
         };
         fb.set_position(*rb.position(), false);
-        *fb.activation_mut() = rb.activation().clone();
+        *fb.activation_mut() = *rb.activation();
         if s.is_some_and(|s| s.is_fixated(h)) {
             fb.set_body_type(RigidBodyType::Fixed, false);
         } else {
@@ -293,7 +298,7 @@ fn run(scene: &str, args: &Args) -> Run {
         } else {
             1
         };
-        let stock_first = unit % 2 == 0;
+        let stock_first = unit.is_multiple_of(2);
         unit += 1;
         awake_s.clear();
         awake_h.clear();
@@ -543,6 +548,7 @@ fn main() {
     let preset = match args.preset.as_str() {
         "reliable" => "reliable_sleep() (sleep + subgroup + fixate + warm start)",
         "fastest" => "papers_fastest() (+ zero + damp)",
+        "reliable-nowrites" => "reliable_sleep() without release_written",
         _ => "the observe-only layer (no speed-ups)",
     };
     println!(

@@ -163,4 +163,9 @@ impl Coherence {
             self.unseen_step = true;
         }
     }
+
+    /// Whether a step the layer did not see was found since the last analysis. O(1).
+    pub(crate) fn unseen_step_pending(&self) -> bool {
+        self.unseen_step
+    }
 }

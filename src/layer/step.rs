@@ -26,7 +26,8 @@ impl ContactLayer {
     /// changed, plus the round-robin verification's few slots
     /// ([`crate::coherence::Coherence::verify_budget`]). An idle step (nothing awake, no
     /// change: see the `coherence` module docs) costs O(1) beyond that and the watches
-    /// no Rapier list replaces (held bodies' static supporters, joints).
+    /// no Rapier list replaces (held bodies' static supporters, joints), plus, while
+    /// the speed-ups hold bodies, O(held) to find those the user wrote to.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> StepStats {
         // This step hands Rapier the layer's event handler: touching tracking may
         // start with it (see `Tracking`).
@@ -76,6 +77,10 @@ impl ContactLayer {
     pub fn pre_step(&mut self, mut world: WorldMut) {
         self.coherence
             .check_unseen_step(world.bodies, world.islands);
+        // Before the layer writes anything: a held body flagged now was written by the user.
+        if let Some(s) = &mut self.speedups {
+            s.release_written(world.bodies, self.coherence.unseen_step_pending());
+        }
         self.apply_decided(&mut world);
         // The collision-event flags, once touching tracking was asked for, are kept
         // while the layer's handler reaches Rapier's step, whatever the tracking in
@@ -181,6 +186,9 @@ impl ContactLayer {
     /// every step. Cost: as [`Self::step`]'s analysis.
     pub fn analyze(&mut self, view: WorldView) -> StepStats {
         self.gravity = view.gravity;
+        if let Some(s) = &mut self.speedups {
+            s.note_rapier_flags(view.bodies);
+        }
         let force = std::mem::take(&mut self.logic.force);
         let screen = Screen {
             rules: self.logic.hooks.table(),

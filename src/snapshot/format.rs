@@ -19,7 +19,7 @@ use crate::{Error, NodeId, StepStats};
 
 /// The snapshot format this build writes and reads. Bumped by any change of the
 /// layer's state that older builds could not read (the CHANGELOG says which).
-pub const SNAPSHOT_FORMAT: u32 = 8;
+pub const SNAPSHOT_FORMAT: u32 = 9;
 
 /// The first field of every snapshot ("RCGL" in little-endian bytes).
 const SNAPSHOT_MAGIC: u32 = u32::from_le_bytes(*b"RCGL");

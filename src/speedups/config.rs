@@ -95,6 +95,13 @@ pub struct SpeedUps {
     /// the user's: the whole held group, as a sleeping Rapier island wakes whole);
     /// off, only the bodies reached are released. Default on.
     pub release_group: bool,
+    /// A held body the user wrote to since the last step (Rapier flags every body
+    /// reached through `get_mut`, `bodies[h]` as `&mut` or `iter_mut`) is given back
+    /// at the next pre-step, so that the user's writes from then on reach a dynamic
+    /// body (Rapier drops the first, on a fixed body). Costs O(held) a step: off, a
+    /// settled held pile costs less where nothing writes to the bodies the layer may
+    /// hold. Default on.
+    pub release_written: bool,
 }
 
 impl Default for SpeedUps {
@@ -132,6 +139,7 @@ impl SpeedUps {
             damping: 0.5,
             release_speed: 0.5,
             release_group: true,
+            release_written: true,
         }
     }
 

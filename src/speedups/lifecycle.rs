@@ -25,6 +25,7 @@ impl SpeedUpState {
             later: Vec::new(),
             to_park: Vec::new(),
             unparked: Default::default(),
+            flagged_by_rapier: Vec::new(),
             parking_now: Vec::new(),
             parked_now: Vec::new(),
             hold_changes: Vec::new(),

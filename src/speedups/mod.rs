@@ -104,6 +104,11 @@ pub struct SpeedUpState {
     /// parking: the choice costs O(these), not O(held).
     #[cfg_attr(feature = "serde", serde(default))]
     unparked: std::collections::BTreeSet<(u32, u32)>,
+    /// The held bodies Rapier's last step left flagged as modified (its own island
+    /// wakes), in key order: their flag is not the user's write
+    /// ([`Self::release_written`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    flagged_by_rapier: Vec<(u32, u32)>,
     /// Held bodies disabled for this step on their way out of the active set
     /// (`Park::Parking`).
     #[cfg_attr(feature = "serde", serde(default))]

@@ -20,15 +20,20 @@
 //!   what rests on it, transitively; when the world under it changed (a static
 //!   supporter removed or moved, a body removed), the rest of its held group
 //!   follows, given back as a spread is.
-//! - **Owner**: a held body the user turned into another type is the user's again.
+//! - **Owner**: a held body the user turned into another type is the user's again,
+//!   its group with it; one the user reached for mutably (any write through
+//!   `get_mut`, `bodies[h]` or `iter_mut`, which Rapier flags) is the user's from the
+//!   next step on. Rapier drops an impulse, force or velocity written to a fixed
+//!   body, so that write itself is lost (`docs/ARCHITECTURE.md`, rule 3).
 //!
 //! Cost: O(fast bodies × (log held boxes + held boxes met)) per step while anything
 //! is held; O(released bodies × their links · log) per release.
 
 use std::collections::BTreeSet;
 
+use rapier3d::data::HasModifiedFlag;
 use rapier3d::parry::bounding_volume::BoundingVolume;
-use rapier3d::prelude::RigidBodyHandle;
+use rapier3d::prelude::{RigidBodyHandle, RigidBodySet};
 
 use super::{key, SpeedUpState};
 use crate::graph::{ContactGraph, EdgeKind, NodeId, NodeKind};
@@ -336,6 +341,55 @@ impl SpeedUpState {
                 seeds.push((vec![h], f32::INFINITY));
             }
         }
+    }
+
+    /// Notes the held bodies Rapier's step just left flagged as modified: its island
+    /// wakes write to the fixed bodies still listed in a woken chunk (`unparked`
+    /// ones; a parked body is in no island), so their flag is not the user's. Called
+    /// right after Rapier's step. O(held bodies in Rapier's active set).
+    pub(crate) fn note_rapier_flags(&mut self, bodies: &RigidBodySet) {
+        self.flagged_by_rapier.clear();
+        if !self.config.release_written {
+            return;
+        }
+        let flagged = self
+            .unparked
+            .iter()
+            .filter(|&&(i, g)| {
+                let h = RigidBodyHandle::from_raw_parts(i, g);
+                bodies.get(h).is_some_and(|rb| rb.has_modified_flag())
+            })
+            .copied();
+        self.flagged_by_rapier.extend(flagged);
+    }
+
+    /// Queues the release of the held bodies the user reached for mutably since
+    /// Rapier's last step (Rapier's modified flag, which its step clears, on a body
+    /// Rapier's step did not flag itself ([`Self::note_rapier_flags`]) and the layer
+    /// does not write between steps) and left fixed and enabled: each alone, given
+    /// back at this pre-step, so that the user's writes from the next one on reach a
+    /// dynamic body; what it then does spreads as any moving body's motion does. A
+    /// body the user gave another type or disabled is [`Self::taken_back`]'s, its group
+    /// with it. Not after a step the layer did not see (`unseen`): its flags are that
+    /// step's. Only with [`super::SpeedUps::release_written`]. O(held).
+    pub(crate) fn release_written(&mut self, bodies: &RigidBodySet, unseen: bool) {
+        if self.detached || unseen || !self.config.release_written || self.held.is_empty() {
+            return;
+        }
+        let by_rapier = &self.flagged_by_rapier;
+        // The keys alone: a map's keys lie together, apart from the held records.
+        let written: Vec<RigidBodyHandle> = self
+            .held
+            .keys()
+            .map(|&(i, g)| RigidBodyHandle::from_raw_parts(i, g))
+            .filter(|&h| {
+                bodies
+                    .get(h)
+                    .is_some_and(|rb| rb.has_modified_flag() && rb.is_fixed() && rb.is_enabled())
+            })
+            .filter(|&h| by_rapier.binary_search(&key(h)).is_err())
+            .collect();
+        self.queue_releases(written);
     }
 
     /// Releases a held body for the monitor's repair of an unresponsive body (one the

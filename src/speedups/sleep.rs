@@ -235,14 +235,17 @@ impl SpeedUpState {
     pub(super) fn write_eligibility(&mut self, world: &mut WorldMut) {
         let dt = world.integration_parameters.dt;
         for (h, eligible) in std::mem::take(&mut self.eligibility) {
+            // Read first: a write flags the body, and a held one flagged is the user's
+            // ([`Self::release_written`]).
+            if !world.bodies.get(h).is_some_and(|rb| rb.is_dynamic()) {
+                continue;
+            }
             if let Some(rb) = world.bodies.get_mut(h) {
-                if rb.is_dynamic() {
-                    remember_activation(&mut self.activations, h, rb);
-                    if eligible {
-                        eligible_activation(rb.activation_mut(), dt);
-                    } else {
-                        never_activation(rb.activation_mut());
-                    }
+                remember_activation(&mut self.activations, h, rb);
+                if eligible {
+                    eligible_activation(rb.activation_mut(), dt);
+                } else {
+                    never_activation(rb.activation_mut());
                 }
             }
         }
