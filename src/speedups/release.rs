@@ -24,7 +24,7 @@
 //!   its group with it; one the user reached for mutably (any write through
 //!   `get_mut`, `bodies[h]` or `iter_mut`, which Rapier flags) is the user's from the
 //!   next step on. Rapier drops an impulse, force or velocity written to a fixed
-//!   body, so that write itself is lost (`docs/ARCHITECTURE.md`, rule 3).
+//!   body, so that write itself is lost (`docs/ARCHITECTURE.md`, rule 4).
 //!
 //! Cost: O(fast bodies × (log held boxes + held boxes met)) per step while anything
 //! is held; O(released bodies × their links · log) per release.
