@@ -1,8 +1,9 @@
 //! A held body the user writes to is the user's from the next step on (paper §7,
 //! fixation): the layer sees Rapier's modified flag on it and gives it back. Rapier
 //! drops the write itself (an impulse, force or velocity on a fixed body), so a push
-//! repeated every step lifts a held box one step later than a sleeping one, and a
-//! held pile nobody writes to stays held.
+//! repeated every step lifts a held box one step later than a sleeping one, a held
+//! box the user moves up falls back as a sleeping one does, and a held pile nobody
+//! writes to stays held.
 
 mod common;
 
@@ -122,5 +123,35 @@ fn a_held_pile_nobody_writes_to_stays_held() {
         // on a held body that would pass for the user's.
         assert_eq!(stats.releases, 0, "a release at step {step}");
         assert_eq!(stats.fixated, held, "held bodies at step {step}");
+    }
+}
+
+/// Where the top box is 100 steps after the user moved it 1 m up (waking it).
+fn after_a_move_up(monitor: Option<MonitorMode>) -> (Real, Real) {
+    let layered = monitor.is_some();
+    let (mut scene, mut layer, top) = settled(monitor);
+    let y0 = scene.world.bodies[top].translation().y;
+    let rb = &mut scene.world.bodies[top];
+    let up = rb.translation() + Vector::new(0.0, 1.0, 0.0);
+    rb.set_translation(up, true);
+    for step in SETTLE..SETTLE + 100 {
+        stepped(&mut scene, &mut layer, layered, step);
+    }
+    (y0, scene.world.bodies[top].translation().y)
+}
+
+#[test]
+fn a_held_box_the_user_moves_up_falls_back_as_a_sleeping_one() {
+    let (y0, stock) = after_a_move_up(None);
+    assert!(
+        (stock - y0).abs() < 0.1,
+        "the sleeping box came down to {stock} from {y0}"
+    );
+    for mode in [MonitorMode::Off, MonitorMode::Repair] {
+        let (_, held) = after_a_move_up(Some(mode));
+        assert!(
+            (held - stock).abs() < 0.1,
+            "monitor {mode:?}: the held box ended at {held}, the sleeping one at {stock}"
+        );
     }
 }

@@ -365,13 +365,14 @@ impl SpeedUpState {
 
     /// Queues the release of the held bodies the user reached for mutably since
     /// Rapier's last step (Rapier's modified flag, which its step clears, on a body
-    /// Rapier's step did not flag itself ([`Self::note_rapier_flags`]) and the layer
-    /// does not write between steps) and left fixed and enabled: each alone, given
-    /// back at this pre-step, so that the user's writes from the next one on reach a
-    /// dynamic body; what it then does spreads as any moving body's motion does. A
-    /// body the user gave another type or disabled is [`Self::taken_back`]'s, its group
-    /// with it. Not after a step the layer did not see (`unseen`): its flags are that
-    /// step's. Only with [`super::SpeedUps::release_written`]. O(held).
+    /// Rapier's step did not flag itself ([`Self::note_rapier_flags`]); between steps
+    /// the layer writes to a held body only to release it) and left fixed and
+    /// enabled: each alone, given back at this pre-step, so that the user's writes
+    /// from the next one on reach a dynamic body; what it then does spreads as any
+    /// moving body's motion does. A body the user gave another type or disabled is
+    /// [`Self::taken_back`]'s, its group with it. Not after a step the layer did not
+    /// see (`unseen`): its flags are that step's. Only with
+    /// [`super::SpeedUps::release_written`]. O(held).
     pub(crate) fn release_written(&mut self, bodies: &RigidBodySet, unseen: bool) {
         if self.detached || unseen || !self.config.release_written || self.held.is_empty() {
             return;
