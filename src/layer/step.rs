@@ -186,9 +186,6 @@ impl ContactLayer {
     /// every step. Cost: as [`Self::step`]'s analysis.
     pub fn analyze(&mut self, view: WorldView) -> StepStats {
         self.gravity = view.gravity;
-        if let Some(s) = &mut self.speedups {
-            s.note_rapier_flags(view.bodies);
-        }
         let force = std::mem::take(&mut self.logic.force);
         let screen = Screen {
             rules: self.logic.hooks.table(),
@@ -314,6 +311,8 @@ impl ContactLayer {
             if !fixing.is_empty() {
                 crate::coherence::held::keep_frozen_details(&mut self.graph, &view, &fixing);
             }
+            // The flags Rapier's step left: not the user's.
+            s.note_flags(view.bodies);
             if s.is_detached() && s.is_idle() {
                 self.speedups = None;
             }

@@ -104,11 +104,15 @@ pub struct SpeedUpState {
     /// parking: the choice costs O(these), not O(held).
     #[cfg_attr(feature = "serde", serde(default))]
     unparked: std::collections::BTreeSet<(u32, u32)>,
-    /// The held bodies Rapier's last step left flagged as modified (its own island
-    /// wakes), in key order: their flag is not the user's write
-    /// ([`Self::release_written`]).
+    /// The held bodies in Rapier's active set that its last step left flagged as
+    /// modified (its own island bookkeeping), in key order: their flag is not the
+    /// user's write ([`Self::release_written`]).
     #[cfg_attr(feature = "serde", serde(default))]
-    flagged_by_rapier: Vec<(u32, u32)>,
+    flagged_before_user: Vec<(u32, u32)>,
+    /// The world's body count at the last analysis: a body removed since moved
+    /// another in Rapier's island lists, which flags it.
+    #[cfg_attr(feature = "serde", serde(default))]
+    bodies_noted: usize,
     /// Held bodies disabled for this step on their way out of the active set
     /// (`Park::Parking`).
     #[cfg_attr(feature = "serde", serde(default))]

@@ -343,52 +343,54 @@ impl SpeedUpState {
         }
     }
 
-    /// Notes the held bodies Rapier's step just left flagged as modified: its island
-    /// wakes write to the fixed bodies still listed in a woken chunk (`unparked`
-    /// ones; a parked body is in no island), so their flag is not the user's. Called
-    /// right after Rapier's step. O(held bodies in Rapier's active set).
-    pub(crate) fn note_rapier_flags(&mut self, bodies: &RigidBodySet) {
-        self.flagged_by_rapier.clear();
-        if !self.config.release_written {
-            return;
-        }
-        let flagged = self
-            .unparked
-            .iter()
-            .filter(|&&(i, g)| {
-                let h = RigidBodyHandle::from_raw_parts(i, g);
-                bodies.get(h).is_some_and(|rb| rb.has_modified_flag())
-            })
-            .copied();
-        self.flagged_by_rapier.extend(flagged);
+    /// Notes which held bodies in Rapier's active set (`unparked`; a parked body is in
+    /// no island) carry Rapier's modified flag after its step: Rapier's own island
+    /// bookkeeping writes to bodies through `get_mut` (a removal or a disable moves
+    /// another body into the gap of an island's list; a wake writes every body of a
+    /// woken island), so those flags are not the user's. Also notes the world's body
+    /// count. Called at the end of the analysis, whether
+    /// [`super::SpeedUps::release_written`] is on or not (it may be switched on
+    /// before the next pre-step). O(held bodies in Rapier's active set).
+    pub(crate) fn note_flags(&mut self, bodies: &RigidBodySet) {
+        self.bodies_noted = bodies.len();
+        let flagged = self.unparked.iter().copied().filter(|&(i, g)| {
+            let h = RigidBodyHandle::from_raw_parts(i, g);
+            bodies.get(h).is_some_and(|rb| rb.has_modified_flag())
+        });
+        self.flagged_before_user = flagged.collect();
     }
 
-    /// Queues the release of the held bodies the user reached for mutably since
-    /// Rapier's last step (Rapier's modified flag, which its step clears, on a body
-    /// Rapier's step did not flag itself ([`Self::note_rapier_flags`]); between steps
-    /// the layer writes to a held body only to release it) and left fixed and
-    /// enabled: each alone, given back at this pre-step, so that the user's writes
-    /// from the next one on reach a dynamic body; what it then does spreads as any
-    /// moving body's motion does. A body the user gave another type or disabled is
-    /// [`Self::taken_back`]'s, its group with it. Not after a step the layer did not
-    /// see (`unseen`): its flags are that step's. Only with
+    /// Queues the release of the held bodies the user wrote to since the last
+    /// analysis (Rapier's modified flag, which its step clears, on a body not noted
+    /// then: [`Self::note_flags`]; between steps the layer writes to a held body only
+    /// to release it), still fixed and enabled: each alone, given back at this
+    /// pre-step, so that the user's writes from the next one on reach a dynamic body;
+    /// what it then does spreads as any moving body's motion does. (A body the user
+    /// gave another type or disabled is [`Self::taken_back`]'s, its group with it.)
+    /// Not after a step the layer did not see (`unseen`), whose flags are that
+    /// step's; after a body was removed, only parked held bodies are looked at
+    /// (Rapier's removal flags the body it moves in an island's list). Only with
     /// [`super::SpeedUps::release_written`]. O(held).
     pub(crate) fn release_written(&mut self, bodies: &RigidBodySet, unseen: bool) {
         if self.detached || unseen || !self.config.release_written || self.held.is_empty() {
             return;
         }
-        let by_rapier = &self.flagged_by_rapier;
+        let noted = &self.flagged_before_user;
+        let removed = bodies.len() < self.bodies_noted;
+        let unparked = &self.unparked;
         // The keys alone: a map's keys lie together, apart from the held records.
         let written: Vec<RigidBodyHandle> = self
             .held
             .keys()
-            .map(|&(i, g)| RigidBodyHandle::from_raw_parts(i, g))
+            .copied()
+            .filter(|&k| !(removed && unparked.contains(&k)))
+            .map(|(i, g)| RigidBodyHandle::from_raw_parts(i, g))
             .filter(|&h| {
                 bodies
                     .get(h)
                     .is_some_and(|rb| rb.has_modified_flag() && rb.is_fixed() && rb.is_enabled())
             })
-            .filter(|&h| by_rapier.binary_search(&key(h)).is_err())
+            .filter(|&h| noted.binary_search(&key(h)).is_err())
             .collect();
         self.queue_releases(written);
     }
