@@ -382,15 +382,13 @@ impl SpeedUpState {
         let written: Vec<RigidBodyHandle> = self
             .held
             .keys()
-            .copied()
-            .filter(|&k| !(removed && unparked.contains(&k)))
-            .map(|(i, g)| RigidBodyHandle::from_raw_parts(i, g))
+            .filter(|k| noted.binary_search(k).is_err() && !(removed && unparked.contains(k)))
+            .map(|&(i, g)| RigidBodyHandle::from_raw_parts(i, g))
             .filter(|&h| {
                 bodies
                     .get(h)
                     .is_some_and(|rb| rb.has_modified_flag() && rb.is_fixed() && rb.is_enabled())
             })
-            .filter(|&h| noted.binary_search(&key(h)).is_err())
             .collect();
         self.queue_releases(written);
     }
